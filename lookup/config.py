@@ -1,0 +1,293 @@
+"""Reading TOML and CSV model files with errors that name the file, the field and the value.
+
+Quantities in model files are numbers in the SI unit stated by the schema (written in the
+files' comments), or strings ``"<number> <unit>"`` in any unit this module knows, e.g.
+``E0 = "6 MPa"``, ``T_ref = "20 degC"``, ``v_star = "1 cm/s"``. An unknown unit is an error.
+CSV tables carry their units in the header, ``name [unit]``.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import tomllib
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import InputError, InputErrors
+
+#: Unit conversions to SI, by dimension: unit -> (factor, offset); SI = value * factor + offset.
+UNITS: dict[str, dict[str, tuple[float, float]]] = {
+    "pressure": {"Pa": (1.0, 0.0), "kPa": (1e3, 0.0), "MPa": (1e6, 0.0), "GPa": (1e9, 0.0)},
+    "length": {
+        "m": (1.0, 0.0), "cm": (1e-2, 0.0), "mm": (1e-3, 0.0), "um": (1e-6, 0.0),
+        "nm": (1e-9, 0.0),
+    },
+    "wavenumber": {"1/m": (1.0, 0.0), "1/mm": (1e3, 0.0), "1/um": (1e6, 0.0)},
+    "angular_frequency": {"rad/s": (1.0, 0.0), "1/s": (1.0, 0.0), "Hz": (2.0 * math.pi, 0.0)},
+    "time": {"s": (1.0, 0.0), "ms": (1e-3, 0.0), "us": (1e-6, 0.0)},
+    "temperature": {"K": (1.0, 0.0), "degC": (1.0, 273.15), "C": (1.0, 273.15)},
+    "temperature_difference": {"K": (1.0, 0.0), "degC": (1.0, 0.0), "C": (1.0, 0.0)},
+    "velocity": {
+        "m/s": (1.0, 0.0), "cm/s": (1e-2, 0.0), "mm/s": (1e-3, 0.0), "um/s": (1e-6, 0.0),
+        "km/h": (1.0 / 3.6, 0.0),
+    },
+    "psd": {"m^4": (1.0, 0.0)},
+    "conductivity": {"W/(m K)": (1.0, 0.0), "W/m/K": (1.0, 0.0)},
+    "heat_capacity": {"J/(kg K)": (1.0, 0.0), "J/kg/K": (1.0, 0.0)},
+    "density": {"kg/m^3": (1.0, 0.0), "g/cm^3": (1e3, 0.0)},
+    "diffusivity": {"m^2/s": (1.0, 0.0)},
+    "energy": {"J": (1.0, 0.0), "eV": (1.602176634e-19, 0.0)},
+    "force": {"N": (1.0, 0.0), "kN": (1e3, 0.0)},
+    "stiffness_per_area": {"N/m^3": (1.0, 0.0), "N/mm^3": (1e9, 0.0)},
+    "stiffness": {"N/m": (1.0, 0.0), "N/mm": (1e3, 0.0)},
+    "mass": {"kg": (1.0, 0.0)},
+    "inertia": {"kg m^2": (1.0, 0.0)},
+    "angle": {"rad": (1.0, 0.0), "deg": (math.pi / 180.0, 0.0)},
+    "dimensionless": {"1": (1.0, 0.0), "": (1.0, 0.0)},
+}
+
+
+def to_si(value: float, unit: str, dimension: str) -> float:
+    """Convert ``value`` given in ``unit`` to SI for ``dimension``; KeyError if unknown."""
+    factor, offset = UNITS[dimension][unit]
+    return value * factor + offset
+
+
+@dataclass
+class Table:
+    """A TOML table with the file it came from and its dotted position inside it.
+
+    Getters validate as they read and raise :class:`InputError` naming file, field and value.
+    """
+
+    data: dict[str, Any]
+    source: Path
+    prefix: str = ""
+    _used: set[str] = field(default_factory=set)
+
+    @classmethod
+    def load(cls, path: str | Path) -> Table:
+        """Parse a TOML file."""
+        path = Path(path)
+        try:
+            with open(path, "rb") as fh:
+                data = tomllib.load(fh)
+        except FileNotFoundError as exc:
+            raise InputError("file not found", source=path) from exc
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError(f"not valid TOML: {exc}", source=path) from exc
+        return cls(data, path)
+
+    # -- helpers ------------------------------------------------------------------------------
+    def name(self, key: str) -> str:
+        """Dotted field name of ``key``."""
+        return f"{self.prefix}.{key}" if self.prefix else key
+
+    def error(self, key: str, message: str, value: object = ...) -> InputError:
+        """An :class:`InputError` about ``key`` of this table."""
+        return InputError(message, source=self.source, field=self.name(key), value=value)
+
+    def has(self, key: str) -> bool:
+        """Whether ``key`` is present."""
+        return key in self.data
+
+    def raw(self, key: str, default: Any = ...) -> Any:
+        """The value of ``key`` as parsed, or ``default``; missing and no default is an error."""
+        self._used.add(key)
+        if key not in self.data:
+            if default is ...:
+                raise self.error(key, "required field is missing")
+            return default
+        return self.data[key]
+
+    def check_unknown(self, extra_allowed: Iterable[str] = ()) -> None:
+        """Refuse keys that no getter read (a misspelt key would otherwise be ignored)."""
+        unknown = sorted(set(self.data) - self._used - set(extra_allowed))
+        if unknown:
+            raise InputErrors(
+                [self.error(k, "unknown field (misspelt?)", self.data[k]) for k in unknown]
+            )
+
+    # -- typed getters ------------------------------------------------------------------------
+    def table(self, key: str, required: bool = True) -> Table | None:
+        """A sub-table."""
+        value = self.raw(key, ... if required else None)
+        if value is None:
+            return None
+        if not isinstance(value, dict):
+            raise self.error(key, "expected a table", value)
+        return Table(value, self.source, self.name(key))
+
+    def string(self, key: str, default: Any = ..., choices: Iterable[str] | None = None) -> str:
+        """A string, optionally one of ``choices``."""
+        value = self.raw(key, default)
+        if not isinstance(value, str):
+            raise self.error(key, "expected a string", value)
+        if choices is not None and value not in set(choices):
+            raise self.error(key, f"must be one of {sorted(set(choices))}", value)
+        return value
+
+    def boolean(self, key: str, default: Any = ...) -> bool:
+        """A boolean."""
+        value = self.raw(key, default)
+        if not isinstance(value, bool):
+            raise self.error(key, "expected true or false", value)
+        return value
+
+    def integer(self, key: str, default: Any = ..., minimum: int | None = None) -> int:
+        """An integer, optionally bounded below."""
+        value = self.raw(key, default)
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise self.error(key, "expected an integer", value)
+        if minimum is not None and value < minimum:
+            raise self.error(key, f"must be >= {minimum}", value)
+        return value
+
+    def quantity(
+        self,
+        key: str,
+        dimension: str,
+        default: Any = ...,
+        *,
+        positive: bool = False,
+        nonnegative: bool = False,
+        minimum: float | None = None,
+        maximum: float | None = None,
+    ) -> float:
+        """A finite number in SI units (a bare number is taken as SI; ``"6 MPa"`` converts)."""
+        value = self.raw(key, default)
+        si = parse_quantity(value, dimension, lambda msg: self.error(key, msg, value))
+        check_number(si, lambda msg: self.error(key, msg, value), positive=positive,
+                     nonnegative=nonnegative, minimum=minimum, maximum=maximum)
+        return si
+
+    def path(self, key: str) -> Path:
+        """A file path, relative paths taken relative to the TOML file's folder; must exist."""
+        value = self.string(key)
+        p = Path(value)
+        if not p.is_absolute():
+            p = self.source.parent / p
+        if not p.is_file():
+            raise self.error(key, "file not found", value)
+        return p
+
+    def array(self, key: str, dimension: str = "dimensionless", *, positive: bool = False,
+              increasing: bool = False, min_length: int = 1) -> np.ndarray:
+        """An array of finite numbers (SI) given as a TOML list."""
+        value = self.raw(key)
+        if not isinstance(value, list) or len(value) < min_length:
+            raise self.error(key, f"expected a list of at least {min_length} numbers", value)
+        out = np.array([parse_quantity(v, dimension, lambda msg, v=v: self.error(key, msg, v))
+                        for v in value], dtype=float)
+        validate_array(out, lambda msg: self.error(key, msg, value), positive=positive,
+                       increasing=increasing)
+        return out
+
+
+def parse_quantity(value: Any, dimension: str, err) -> float:
+    """Turn a TOML value (number, or ``"<number> <unit>"``) into a float in SI units."""
+    if isinstance(value, bool):
+        raise err("expected a number")
+    if isinstance(value, int | float):
+        return float(value)
+    if isinstance(value, str):
+        text = value.strip()
+        parts = text.split(None, 1)
+        try:
+            number = float(parts[0])
+        except (ValueError, IndexError):
+            raise err("expected a number or '<number> <unit>'") from None
+        unit = parts[1].strip() if len(parts) > 1 else ""
+        known = UNITS.get(dimension, {})
+        if unit not in known:
+            raise err(f"unknown unit '{unit}' for a {dimension.replace('_', ' ')} "
+                      f"(known: {', '.join(u for u in known if u)})")
+        return to_si(number, unit, dimension)
+    raise err("expected a number or '<number> <unit>'")
+
+
+def check_number(x: float, err, *, positive: bool = False, nonnegative: bool = False,
+                 minimum: float | None = None, maximum: float | None = None) -> None:
+    """Raise ``err(message)`` if ``x`` is not finite or violates a bound."""
+    if not math.isfinite(x):
+        raise err("must be a finite number")
+    if positive and not x > 0:
+        raise err("must be > 0")
+    if nonnegative and not x >= 0:
+        raise err("must be >= 0")
+    if minimum is not None and x < minimum:
+        raise err(f"must be >= {minimum:g}")
+    if maximum is not None and x > maximum:
+        raise err(f"must be <= {maximum:g}")
+
+
+def validate_array(a: np.ndarray, err, *, positive: bool = False, increasing: bool = False) -> None:
+    """Raise ``err(message)`` for NaN/inf entries, non-positive ones or a non-monotonic axis."""
+    bad = ~np.isfinite(a)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise err(f"entry {i} is not a finite number ({a[i]!r})")
+    if positive and (a <= 0).any():
+        i = int(np.flatnonzero(a <= 0)[0])
+        raise err(f"entry {i} must be > 0 (is {a[i]!r})")
+    if increasing and a.size > 1 and not (np.diff(a) > 0).all():
+        i = int(np.flatnonzero(np.diff(a) <= 0)[0])
+        raise err(f"must be strictly increasing (entry {i + 1} = {a[i + 1]!r} follows "
+                  f"{a[i]!r})")
+
+
+def read_csv_table(path: Path, columns: dict[str, str]) -> dict[str, np.ndarray]:
+    """Read a CSV table whose header names columns as ``name [unit]``.
+
+    Parameters
+    ----------
+    path
+        CSV file; lines starting with ``#`` are comments (provenance goes there).
+    columns
+        Required column names mapped to their dimension (for the unit conversion).
+
+    Returns
+    -------
+    dict
+        Column name -> values in SI units.
+    """
+    try:
+        with open(path, newline="") as fh:
+            rows = [r for r in csv.reader(line for line in fh if not line.lstrip().startswith("#"))
+                    if r and any(c.strip() for c in r)]
+    except FileNotFoundError as exc:
+        raise InputError("file not found", source=path) from exc
+    if not rows:
+        raise InputError("empty table", source=path)
+    header = [h.strip() for h in rows[0]]
+    names: dict[str, tuple[int, str]] = {}
+    for i, h in enumerate(header):
+        if "[" in h and h.endswith("]"):
+            nm, unit = h[:-1].split("[", 1)
+            names[nm.strip()] = (i, unit.strip())
+        else:
+            names[h] = (i, "")
+    out: dict[str, np.ndarray] = {}
+    for col, dim in columns.items():
+        if col not in names:
+            raise InputError(f"missing column (header: {header})", source=path, field=col)
+        i, unit = names[col]
+        if unit not in UNITS[dim]:
+            raise InputError(f"unknown unit '{unit}' for a {dim.replace('_', ' ')}",
+                             source=path, field=col, value=unit)
+        vals = []
+        for r, row in enumerate(rows[1:], start=2):
+            try:
+                vals.append(float(row[i]))
+            except (ValueError, IndexError):
+                raise InputError(f"row {r}: not a number", source=path, field=col,
+                                 value=row[i] if i < len(row) else None) from None
+        arr = np.array([to_si(v, unit, dim) for v in vals])
+        validate_array(arr, lambda msg, col=col: InputError(msg, source=path, field=col))
+        out[col] = arr
+    return out
