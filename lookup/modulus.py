@@ -117,6 +117,29 @@ class Prony:
         object.__setattr__(self, "E_k", E_k)
         object.__setattr__(self, "tau_k", tau_k)
 
+    @classmethod
+    def lognormal(cls, E_inf: float, E_glassy: float, tau_center: float,
+                  width_decades: float, arms_per_decade: int = 2) -> Prony:
+        r"""Prony series sampling a log-normal relaxation spectrum.
+
+        Arms at ``arms_per_decade`` per decade of tau within +-4 widths of ``tau_center``, with
+        :math:`E_k \propto \exp(-\tfrac12[(\log_{10}\tau_k - \log_{10}\tau_c)/w]^2)` and
+        :math:`\sum_k E_k = E_{glassy} - E_\infty`, so that E' runs from E_inf (rubbery) to
+        E_glassy. A broad (w ~ 2 decades) log-normal spectrum is a common smooth model of
+        filled tread compounds (Ferry, *Viscoelastic Properties of Polymers*, ch. 3-4).
+        """
+        if not (E_glassy > E_inf > 0 and tau_center > 0 and width_decades > 0
+                and arms_per_decade >= 1):
+            raise InputError("log-normal spectrum needs E_glassy > E_inf > 0, tau_center > 0, "
+                             "width_decades > 0, arms_per_decade >= 1", field="modulus",
+                             value=(E_inf, E_glassy, tau_center, width_decades))
+        c = np.log10(tau_center)
+        step = 1.0 / arms_per_decade
+        lt = np.arange(np.floor(c - 4 * width_decades), np.ceil(c + 4 * width_decades) + step / 2,
+                       step)
+        w = np.exp(-0.5 * ((lt - c) / width_decades) ** 2)
+        return cls(E_inf, (E_glassy - E_inf) * w / w.sum(), 10.0**lt)
+
     def storage_loss(self, omega: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         omega = np.asarray(omega, dtype=float)
         wt = omega[..., None] * self.tau_k

@@ -1,0 +1,267 @@
+"""Rubber compounds: master curve, shift factor, strain softening, adhesive shear law and
+thermal data, loaded from TOML files under ``models/compounds/``.
+
+File layout (SI unless written as ``"<number> <unit>"``)::
+
+    name = "summer"
+    description = "..."
+    provenance = "where the numbers come from"
+    nu = 0.5                       # Poisson ratio
+
+    [modulus]                      # small-strain master curve at T_ref
+    T_ref = "20 degC"
+    model = "prony"                # E_inf [Pa], E_k [Pa], tau_k [s]; or, with
+                                   # spectrum = "lognormal": E_inf, E_glassy, tau_center,
+                                   # width_decades, arms_per_decade (Prony.lognormal)
+    # or "single_relaxation" (E0, E1, tau: review eq. 4)
+    # or "tabulated" (file = CSV with "omega [rad/s]", "E_storage [Pa]", "E_loss [Pa]";
+    #                 outside = "maxwell" | "error", see lookup.modulus)
+
+    [shift]                        # a_T(T), its own reference temperature
+    model = "wlf"                  # C1, C2 [K], T_ref; or "tabulated" (file: "T [degC]",
+                                   # "log10_aT [1]")
+
+    [softening]                    # review eq. (6), applied at the stated strain
+    model = "kraus"                # eps_c, m, r_inf, h; or "tabulated" (file); or "none"
+    strain = 0.1
+
+    [adhesion]                     # review eq. (21)-(22)
+    model = "eq21"                 # sigma_f0 [Pa], c, v_star [m/s], T_ref,
+    shift = "arrhenius"            # activation_energy [J or "1 eV"]; or shift = "bulk"
+    # or model = "schallamach" (review Appendix A) or "none"
+
+    [thermal]
+    rho = 1500.0                   # kg/m^3
+    c_v = 1500.0                   # J/(kg K)
+    kappa = 0.3                    # W/(m K)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .adhesion import GaussianShearLaw, NoAdhesion, ShearLaw
+from .config import Table, read_csv_table
+from .errors import InputError
+from .modulus import Modulus, ModulusTable, Prony, SingleRelaxation, TabulatedMasterCurve
+from .paths import resolve_model_file
+from .shift import WLF, Arrhenius, ShiftFactor, TabulatedShift
+from .softening import KrausSoftening, NoSoftening, Softening, TabulatedSoftening
+
+
+@dataclass(frozen=True)
+class RubberThermal:
+    """Thermal data of the rubber.
+
+    Attributes
+    ----------
+    rho : float
+        Density [kg/m^3].
+    c_v : float
+        Specific heat [J/(kg K)].
+    kappa : float
+        Thermal conductivity [W/(m K)].
+    """
+
+    rho: float
+    c_v: float
+    kappa: float
+
+    @property
+    def diffusivity(self) -> float:
+        """Thermal diffusivity D = kappa / (rho c_v) [m^2/s] (review after eq. 23)."""
+        return self.kappa / (self.rho * self.c_v)
+
+    @property
+    def effusivity(self) -> float:
+        """Thermal effusivity sqrt(kappa rho c_v) [W s^0.5/(m^2 K)]."""
+        return float(np.sqrt(self.kappa * self.rho * self.c_v))
+
+
+@dataclass(frozen=True)
+class Compound:
+    """A tread compound.
+
+    Attributes
+    ----------
+    name : str
+    modulus : Modulus
+        Small-strain master curve at ``T_ref``.
+    T_ref : float
+        Temperature of the master curve [K].
+    shift : ShiftFactor
+        Bulk shift factor a_T(T) (its own reference temperature is allowed).
+    softening : Softening
+        Strain-softening law (review eq. 6).
+    strain : float
+        Strain at which the softening factors are applied [1].
+    adhesion : ShearLaw
+        Frictional shear stress sigma_f(v, T) (review eq. 21).
+    nu : float
+        Poisson ratio.
+    thermal : RubberThermal
+    """
+
+    name: str
+    modulus: Modulus
+    T_ref: float
+    shift: ShiftFactor
+    softening: Softening
+    strain: float
+    adhesion: ShearLaw
+    nu: float
+    thermal: RubberThermal
+    description: str = ""
+    provenance: str = ""
+    source: str = ""
+
+    def softening_factors(self) -> tuple[float, float]:
+        """(eta_R, eta_I) at the stated strain."""
+        return self.softening.factors(self.strain)
+
+    def modulus_table(self, points_per_decade: int = 40) -> ModulusTable:
+        """Strain-softened master curve at T_ref tabulated for the friction integrals."""
+        eta_R, eta_I = self.softening_factors()
+        return ModulusTable.from_modulus(self.modulus, eta_R, eta_I,
+                                         points_per_decade=points_per_decade)
+
+    def log10_aT(self, T: np.ndarray) -> np.ndarray:
+        """log10 of the shift from the master curve's T_ref to temperature T [K]."""
+        return self.shift.log10_aT(T) - self.shift.log10_aT(np.asarray(self.T_ref))
+
+    def describe(self) -> dict:
+        """All parameters as a JSON-able dict (grid provenance)."""
+        return {
+            "name": self.name, "source": self.source, "description": self.description,
+            "provenance": self.provenance, "T_ref_K": self.T_ref,
+            "modulus": self.modulus.describe(), "shift": self.shift.describe(),
+            "softening": self.softening.describe(), "strain": self.strain,
+            "adhesion": self.adhesion.describe(), "nu": self.nu,
+            "thermal": {"rho_kg_m3": self.thermal.rho, "c_v_J_kgK": self.thermal.c_v,
+                        "kappa_W_mK": self.thermal.kappa},
+        }
+
+
+def _load_modulus(t: Table) -> Modulus:
+    model = t.string("model", choices=("prony", "single_relaxation", "tabulated"))
+    if model == "single_relaxation":
+        E0 = t.quantity("E0", "pressure", positive=True)
+        E1 = t.quantity("E1", "pressure", positive=True)
+        if E1 <= E0:
+            raise t.error("E1", f"glassy modulus must exceed E0 = {E0:g} Pa", t.raw("E1"))
+        return SingleRelaxation(E0, E1, t.quantity("tau", "time", positive=True))
+    if model == "prony" and t.has("spectrum"):
+        t.string("spectrum", choices=("lognormal",))
+        E_inf = t.quantity("E_inf", "pressure", positive=True)
+        E_g = t.quantity("E_glassy", "pressure", positive=True)
+        if E_g <= E_inf:
+            raise t.error("E_glassy", f"must exceed E_inf = {E_inf:g} Pa", t.raw("E_glassy"))
+        return Prony.lognormal(E_inf, E_g, t.quantity("tau_center", "time", positive=True),
+                               t.quantity("width_decades", "dimensionless", positive=True),
+                               t.integer("arms_per_decade", 2, minimum=1))
+    if model == "prony":
+        E_k = t.array("E_k", "pressure")
+        tau_k = t.array("tau_k", "time", positive=True)
+        if (E_k < 0).any():
+            raise t.error("E_k", "Maxwell-arm moduli must be >= 0 (negative modulus)",
+                          t.raw("E_k"))
+        if E_k.size != tau_k.size:
+            raise t.error("tau_k", f"needs as many entries as E_k ({E_k.size})", t.raw("tau_k"))
+        return Prony(t.quantity("E_inf", "pressure", positive=True), E_k, tau_k)
+    path = t.path("file")
+    cols = read_csv_table(path, {"omega": "angular_frequency", "E_storage": "pressure",
+                                 "E_loss": "pressure"})
+    outside = t.string("outside", default="maxwell", choices=("maxwell", "error"))
+    return TabulatedMasterCurve(cols["omega"], cols["E_storage"], cols["E_loss"], outside,
+                                source=str(path))
+
+
+def _load_shift(t: Table) -> ShiftFactor:
+    model = t.string("model", choices=("wlf", "tabulated"))
+    if model == "wlf":
+        return WLF(t.quantity("C1", "dimensionless", positive=True),
+                   t.quantity("C2", "temperature_difference", positive=True),
+                   t.quantity("T_ref", "temperature", positive=True))
+    path = t.path("file")
+    cols = read_csv_table(path, {"T": "temperature", "log10_aT": "dimensionless"})
+    if not (np.diff(cols["T"]) > 0).all():
+        raise InputError("temperature column must be strictly increasing", source=path,
+                         field="T")
+    T_ref = t.quantity("T_ref", "temperature", positive=True)
+    return TabulatedShift(cols["T"], cols["log10_aT"], T_ref, source=str(path))
+
+
+def _load_softening(t: Table | None) -> tuple[Softening, float]:
+    if t is None:
+        return NoSoftening(), 0.0
+    model = t.string("model", choices=("kraus", "tabulated", "none"))
+    if model == "none":
+        return NoSoftening(), 0.0
+    strain = t.quantity("strain", "dimensionless", positive=True)
+    if model == "kraus":
+        return KrausSoftening(t.quantity("eps_c", "dimensionless", positive=True),
+                              t.quantity("m", "dimensionless", positive=True),
+                              t.quantity("r_inf", "dimensionless", positive=True, maximum=1.0),
+                              t.quantity("h", "dimensionless", positive=True)), strain
+    path = t.path("file")
+    cols = read_csv_table(path, {"strain": "dimensionless", "eta_R": "dimensionless",
+                                 "eta_I": "dimensionless"})
+    return TabulatedSoftening(cols["strain"], cols["eta_R"], cols["eta_I"], str(path)), strain
+
+
+def _load_adhesion(t: Table | None, bulk: ShiftFactor) -> ShearLaw:
+    if t is None:
+        return NoAdhesion()
+    model = t.string("model", choices=("eq21", "schallamach", "none"))
+    if model == "none":
+        return NoAdhesion()
+    if model == "schallamach":
+        from .schallamach import SchallamachShearLaw
+
+        return SchallamachShearLaw.from_table(t, bulk)
+    T_ref = t.quantity("T_ref", "temperature", positive=True)
+    shift_kind = t.string("shift", choices=("arrhenius", "bulk"))
+    shift: ShiftFactor
+    if shift_kind == "arrhenius":
+        shift = Arrhenius(t.quantity("activation_energy", "energy", positive=True), T_ref)
+    else:
+        shift = bulk
+    return GaussianShearLaw(t.quantity("sigma_f0", "pressure", nonnegative=True),
+                            t.quantity("c", "dimensionless", positive=True),
+                            t.quantity("v_star", "velocity", positive=True), T_ref, shift)
+
+
+def load_compound(name_or_path: str | Path) -> Compound:
+    """Load a compound TOML (a path or a shipped name such as ``"summer"``)."""
+    path = resolve_model_file(name_or_path, "compounds")
+    t = Table.load(path)
+    name = t.string("name", default=path.stem)
+    description = t.string("description", default="")
+    provenance = t.string("provenance", default="")
+    nu = t.quantity("nu", "dimensionless", 0.5, minimum=0.0, maximum=0.5)
+    mt = t.table("modulus")
+    T_ref = mt.quantity("T_ref", "temperature", positive=True)
+    modulus = _load_modulus(mt)
+    mt.check_unknown()
+    st = t.table("shift")
+    shift = _load_shift(st)
+    st.check_unknown()
+    sft = t.table("softening", required=False)
+    softening, strain = _load_softening(sft)
+    if sft is not None:
+        sft.check_unknown()
+    at = t.table("adhesion", required=False)
+    adhesion = _load_adhesion(at, shift)
+    if at is not None:
+        at.check_unknown()
+    th = t.table("thermal")
+    thermal = RubberThermal(th.quantity("rho", "density", positive=True),
+                            th.quantity("c_v", "heat_capacity", positive=True),
+                            th.quantity("kappa", "conductivity", positive=True))
+    th.check_unknown()
+    t.check_unknown()
+    return Compound(name, modulus, T_ref, shift, softening, strain, adhesion, nu, thermal,
+                    description, provenance, str(path))

@@ -1,0 +1,384 @@
+r"""Persson steady-sliding rubber friction: cold branch and self-consistent hot branch.
+
+Cold branch (review eqs. 17-20, temperature T0 everywhere):
+
+.. math::
+
+    \mu_{visc} = \tfrac12 \int_{q_0}^{q_1} dq\, q^3 C(q) S(q) P(q)
+                 \int_0^{2\pi} d\phi \cos\phi \frac{E_I(q v\cos\phi, T)}{(1-\nu^2)\sigma_0},
+
+    G(q) = \tfrac18 \int_{q_0}^{q} dq\, q^3 C(q) \int_0^{2\pi} d\phi
+           \left|\frac{E(q v \cos\phi, T)}{(1-\nu^2)\sigma_0}\right|^2,\quad
+    P(q) = \mathrm{erf}\big(1/(2\sqrt{G(q)})\big),\quad S = \gamma + (1-\gamma) P^2,
+
+with the loss modulus E_I = -Im E >= 0 (physics-notes trap 1: the review writes Im E, which is
+negative with its own eq. 4) and the corrected eq. (18) (trap 2). The angular integrals use the
+symmetry of trap 3: 4 x Gauss-Legendre on [0, pi/2]. The q-integrals are trapezoidal in ln q.
+The real contact area is A/A0 = P(q1) and mu = mu_visc + sigma_f(v, T) P(q1) / sigma0
+(review eq. 12, the text before eq. 17).
+
+Hot branch: the same integrals with the modulus of scale q evaluated at T0 + dT_q and the shear
+law at T0 + dT_surface, where the flash temperatures are produced by the friction itself
+(:mod:`lookup.flash_temperature`). The fixed point dT = F(dT) is solved per point with Anderson
+acceleration (Walker & Ni, SIAM J. Numer. Anal. 49 (2011) 1715) on top of damped Picard
+steps; the final max-norm residual |F(dT) - dT| [K] is reported with every hot result.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.special import erf
+
+from . import __version__
+from .compound import Compound
+from .errors import InputError
+from .flash_temperature import HeatKernelSettings, heat_kernel, lateral_factor
+from .surface import Surface
+
+
+@dataclass(frozen=True)
+class EngineSettings:
+    """Numerical settings of the friction engine (chosen by the resolution study in tests).
+
+    Attributes
+    ----------
+    q_per_decade : int
+        Wavenumber nodes per decade between q0 and q1 (at least 12 nodes in all).
+    n_phi : int
+        Gauss-Legendre nodes for the angular integrals on [0, pi/2].
+    gamma : float
+        The constant of review eq. (20).
+    modulus_per_decade : int
+        Sampling of the tabulated master curve.
+    hot_tol : float
+        Convergence tolerance of the flash-temperature fixed point, max-norm [K].
+    hot_max_iter : int
+        Iteration limit of the fixed point.
+    anderson_depth : int
+        History length of the Anderson acceleration.
+    damping : float
+        Picard mixing parameter.
+    road_heat : bool
+        Let the road take part of the heat when the surface has thermal data
+        (:mod:`lookup.flash_temperature`, item 4).
+    tau_per_decade : int
+        Quadrature nodes per decade of the heat kernel's time integral.
+    """
+
+    q_per_decade: int = 24
+    n_phi: int = 16
+    gamma: float = 0.5
+    modulus_per_decade: int = 40
+    hot_tol: float = 1e-3
+    hot_max_iter: int = 300
+    anderson_depth: int = 5
+    damping: float = 0.5
+    road_heat: bool = True
+    tau_per_decade: int = 3
+
+    def __post_init__(self) -> None:
+        checks = [("q_per_decade", self.q_per_decade >= 2), ("n_phi", self.n_phi >= 2),
+                  ("gamma", 0.0 <= self.gamma <= 1.0),
+                  ("modulus_per_decade", self.modulus_per_decade >= 4),
+                  ("hot_tol", self.hot_tol > 0), ("hot_max_iter", self.hot_max_iter >= 1),
+                  ("anderson_depth", self.anderson_depth >= 0),
+                  ("damping", 0.0 < self.damping <= 1.0),
+                  ("tau_per_decade", self.tau_per_decade >= 1)]
+        for name, ok in checks:
+            if not ok:
+                raise InputError("invalid engine setting", field=f"engine.{name}",
+                                 value=getattr(self, name))
+
+
+@dataclass
+class FrictionResult:
+    """Friction at a set of points; every field has the broadcast shape of the inputs.
+
+    Attributes
+    ----------
+    mu, mu_visc, mu_cont : numpy.ndarray
+        Total, viscoelastic and contact (adhesive) friction coefficients.
+    area : numpy.ndarray
+        Relative real contact area A/A0 = P(q1).
+    dT_flash : numpy.ndarray
+        Contact-time-averaged flash temperature rise at the surface [K] (0 on the cold branch).
+    dT_max : numpy.ndarray
+        Largest flash temperature rise over the resolved depths [K].
+    residual : numpy.ndarray
+        Max-norm residual of the flash-temperature fixed point [K] (0 on the cold branch).
+    iterations : numpy.ndarray
+        Fixed-point iterations used.
+    """
+
+    mu: np.ndarray
+    mu_visc: np.ndarray
+    mu_cont: np.ndarray
+    area: np.ndarray
+    dT_flash: np.ndarray
+    dT_max: np.ndarray
+    residual: np.ndarray
+    iterations: np.ndarray
+
+    def reshape(self, shape: tuple[int, ...]) -> FrictionResult:
+        return FrictionResult(**{k: np.reshape(v, shape) for k, v in asdict(self).items()})
+
+
+@dataclass
+class PerssonFriction:
+    """The Persson friction engine for one compound on one surface.
+
+    Parameters
+    ----------
+    compound : Compound
+    surface : Surface
+    settings : EngineSettings, optional
+
+    Notes
+    -----
+    Everything that does not depend on (v, T0, sigma0) is prepared once here: the q and phi
+    nodes, C(q), the tabulated master curve. The heat kernel depends on v only and is cached
+    per speed. Instances are picklable (for process pools and Dask).
+    """
+
+    compound: Compound
+    surface: Surface
+    settings: EngineSettings = field(default_factory=EngineSettings)
+
+    def __post_init__(self) -> None:
+        s = self.settings
+        self.q0 = float(self.surface.psd.q0)
+        self.q1 = float(self.surface.q1)
+        if not self.q1 > self.q0:
+            raise InputError(f"q1 = {self.q1:g} 1/m must exceed q0 = {self.q0:g} 1/m",
+                             source=self.surface.source, field="cutoff")
+        n = max(int(np.ceil(np.log10(self.q1 / self.q0) * s.q_per_decade)), 11) + 1
+        self.q = np.geomspace(self.q0, self.q1, n)
+        lnq = np.log(self.q)
+        # trapezoid weights in ln q for int dq f(q) = int dlnq q f(q)
+        dl = np.diff(lnq)
+        w = np.zeros(n)
+        w[:-1] += 0.5 * dl
+        w[1:] += 0.5 * dl
+        self.w_lnq = w
+        self.dl = dl
+        # q^4 C(q): the measure q^3 C dq written per d(ln q)
+        self.F = self.q**4 * self.surface.psd.C(self.q)
+        x, wx = np.polynomial.legendre.leggauss(s.n_phi)
+        phi = 0.25 * np.pi * (x + 1.0)
+        self.cos_phi = np.cos(phi)
+        self.w_phi = 0.25 * np.pi * wx
+        self.log10_qcos = np.log10(self.q)[:, None] + np.log10(self.cos_phi)[None, :]
+        self.table = self.compound.modulus_table(s.modulus_per_decade)
+        self.inv_1mnu2 = 1.0 / (1.0 - self.compound.nu**2)
+        # macroasperity wavenumber q_m = pi / D, clamped to the resolved band
+        self.q_m = float(np.clip(np.pi / self.surface.D, self.q0, self.q1))
+        self.i_m = int(np.clip(np.searchsorted(self.q, self.q_m), 1, n - 1))
+        th = self.compound.thermal
+        self.D_th = th.diffusivity
+        self.rho_c = th.rho * th.c_v
+        if s.road_heat and self.surface.thermal is not None:
+            e_r, e_s = th.effusivity, self.surface.thermal.effusivity
+            self.R_image = (e_r - e_s) / (e_r + e_s)
+        else:
+            self.R_image = 1.0
+        self.z_eval = np.concatenate([[0.0], 1.0 / (2.0 * self.q)])
+        self.a_src = np.concatenate([[np.inf], 2.0 * self.q])
+        self._kernels: dict[float, np.ndarray] = {}
+        self.last_hot_residual = 0.0
+
+    # -- provenance ---------------------------------------------------------------------------
+    @property
+    def D(self) -> float:
+        """Macroasperity contact diameter [m]."""
+        return self.surface.D
+
+    @property
+    def s0(self) -> float:
+        """Cold-to-hot slip distance of eq. (28), 0.2 D [m]."""
+        return self.surface.s0
+
+    def describe(self) -> dict[str, Any]:
+        """Everything needed to trace a number back: inputs, rule, settings, version."""
+        return {"compound": self.compound.describe(), "surface": self.surface.describe(),
+                "settings": asdict(self.settings), "q0_per_m": self.q0, "q1_per_m": self.q1,
+                "q1_rule": self.surface.cutoff.describe(), "D_m": self.D, "s0_m": self.s0,
+                "q_m_per_m": self.q_m, "road_image_R": self.R_image,
+                "n_q": int(self.q.size), "tirefric_version": __version__}
+
+    # -- the integrals ------------------------------------------------------------------------
+    def _angular(self, v: np.ndarray, log10_aT: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Angular integrals at every q (trap 3), normalised by (1 - nu^2).
+
+        Returns (A_I, A_2), shape (B, nq): A_I = int_0^2pi cos(phi) E_I*/... dphi and
+        A_2 = int_0^2pi |E*|^2 dphi with E* = E/(1-nu^2).
+        """
+        lw = (np.log10(v)[:, None, None] + self.log10_qcos[None, :, :]
+              + log10_aT[:, :, None])
+        ER, EI = self.table(lw)
+        c = self.inv_1mnu2
+        A_I = 4.0 * c * np.einsum("bqk,k->bq", EI, self.w_phi * self.cos_phi)
+        A_2 = 4.0 * c * c * np.einsum("bqk,k->bq", ER * ER + EI * EI, self.w_phi)
+        return A_I, A_2
+
+    def _evaluate(self, v: np.ndarray, T0: np.ndarray, sigma0: np.ndarray,
+                  dT: np.ndarray | None) -> dict[str, np.ndarray]:
+        """Friction at flat arrays (B,) with flash temperatures dT (B, nq+1) or None (cold)."""
+        if dT is None:
+            la = np.broadcast_to(self.compound.log10_aT(T0)[:, None], (T0.size, self.q.size))
+            T_surf = T0
+        else:
+            la = self.compound.log10_aT(T0[:, None] + dT[:, 1:])
+            T_surf = T0 + dT[:, 0]
+        A_I, A_2 = self._angular(v, la)
+        s2 = (1.0 / sigma0**2)[:, None]
+        g = 0.125 * self.F * A_2 * s2
+        G = np.concatenate([np.zeros((v.size, 1)),
+                            np.cumsum(0.5 * (g[:, 1:] + g[:, :-1]) * self.dl, axis=1)], axis=1)
+        with np.errstate(divide="ignore"):
+            P = erf(0.5 / np.sqrt(G))
+        gam = self.settings.gamma
+        S = gam + (1.0 - gam) * P * P
+        dmu = 0.5 * self.F * S * P * A_I / sigma0[:, None]  # per d(ln q)
+        dmu_w = dmu * self.w_lnq
+        mu_visc = dmu_w.sum(axis=1)
+        area = P[:, -1]
+        sig_f = self.compound.adhesion.sigma_f(v, T_surf)
+        mu_cont = sig_f * area / sigma0
+        # P at the macroasperity scale, interpolated in ln q
+        i = self.i_m
+        f = (np.log(self.q_m) - np.log(self.q[i - 1])) / self.dl[i - 1]
+        P_m = P[:, i - 1] + f * (P[:, i] - P[:, i - 1])
+        return {"mu_visc": mu_visc, "mu_cont": mu_cont, "area": area, "dmu_w": dmu_w,
+                "P_m": P_m}
+
+    def _kernel(self, v: float) -> np.ndarray:
+        """Heat kernel with lateral factor for speed v (cached), shape (nq+1, nq+1)."""
+        key = float(v)
+        K = self._kernels.get(key)
+        if K is None:
+            t_c = self.D / key
+            K = heat_kernel(self.z_eval, self.a_src, t_c, self.D_th, self.rho_c, self.R_image,
+                            HeatKernelSettings(self.settings.tau_per_decade))
+            K = K * lateral_factor(key * self.D / self.D_th)
+            if len(self._kernels) > 256:
+                self._kernels.clear()
+            self._kernels[key] = K
+        return K
+
+    def heat_sources(self, v: np.ndarray, sigma0: np.ndarray, parts: dict[str, np.ndarray]
+                     ) -> np.ndarray:
+        """Source powers per unit macro-contact area [W/m^2], shape (B, nq+1).
+
+        Column 0 is the adhesive surface flux mu_cont sigma0 v / P_m, columns 1.. the
+        viscoelastic power of each scale, sigma0 v dmu_q / P_m (module docstring of
+        :mod:`lookup.flash_temperature`, items 1 and 3).
+        """
+        scale = (sigma0 * v / parts["P_m"])[:, None]
+        return np.concatenate([parts["mu_cont"][:, None], parts["dmu_w"]], axis=1) * scale
+
+    def _fixed_point(self, v: np.ndarray, T0: np.ndarray, sigma0: np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+        """Solve dT = F(dT) for every point (vectorised over points sharing nothing but code)."""
+        s = self.settings
+        B, n = v.size, self.q.size + 1
+        uv, inv = np.unique(v, return_inverse=True)
+        kernels = np.stack([self._kernel(x) for x in uv])
+
+        def F(x: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+            parts = self._evaluate(v[idx], T0[idx], sigma0[idx], x)
+            W = self.heat_sources(v[idx], sigma0[idx], parts)
+            return np.einsum("bij,bj->bi", kernels[inv[idx]], W), parts
+
+        x = np.zeros((B, n))
+        fx, parts = F(x, np.arange(B))
+        res = fx - x
+        rnorm = np.abs(res).max(axis=1)
+        iters = np.ones(B, dtype=int)
+        hist_x: list[np.ndarray] = []
+        hist_r: list[np.ndarray] = []
+        beta = s.damping
+        active = rnorm > s.hot_tol
+        for _ in range(s.hot_max_iter):
+            if not active.any():
+                break
+            idx = np.flatnonzero(active)
+            xa, ra = x[idx], res[idx]
+            new = xa + beta * ra
+            m = len(hist_x)
+            if m:
+                dX = np.stack([xa - h[idx] for h in hist_x], axis=2)  # (b, n, m)
+                dR = np.stack([ra - h[idx] for h in hist_r], axis=2)
+                A = np.einsum("bnm,bnk->bmk", dR, dR)
+                lam = 1e-10 * np.einsum("bmm->b", A)[:, None, None] + 1e-300
+                rhs = np.einsum("bnm,bn->bm", dR, ra)
+                gam = np.linalg.solve(A + lam * np.eye(m)[None], rhs[..., None])[..., 0]
+                new = new - np.einsum("bnm,bm->bn", dX + beta * dR, gam)
+            new = np.clip(new, 0.0, 5000.0)
+            fnew, pnew = F(new, idx)
+            rnew = fnew - new
+            hist_x.append(x.copy())
+            hist_r.append(res.copy())
+            if len(hist_x) > s.anderson_depth:
+                hist_x.pop(0)
+                hist_r.pop(0)
+            x[idx], res[idx] = new, rnew
+            for k in parts:
+                parts[k][idx] = pnew[k]
+            rnorm[idx] = np.abs(rnew).max(axis=1)
+            iters[idx] += 1
+            active = rnorm > s.hot_tol
+        # report the friction at the final iterate together with its residual
+        return x, rnorm, iters, parts
+
+    # -- public API -----------------------------------------------------------------------------
+    def _prepare(self, v: Any, T0: Any, sigma0: Any) -> tuple[tuple[int, ...], np.ndarray, ...]:
+        v, T0, sigma0 = np.broadcast_arrays(np.asarray(v, float), np.asarray(T0, float),
+                                            np.asarray(sigma0, float))
+        shape = v.shape
+        v, T0, sigma0 = (np.ravel(a).copy() for a in (v, T0, sigma0))
+        for name, a, ok in (("v", v, v > 0), ("T0", T0, T0 > 0), ("sigma0", sigma0, sigma0 > 0)):
+            bad = ~(np.isfinite(a) & ok)
+            if bad.any():
+                raise InputError("must be finite and > 0 (SI units: m/s, K, Pa)", field=name,
+                                 value=float(a[np.flatnonzero(bad)[0]]))
+        return shape, v, T0, sigma0
+
+    def cold(self, v: Any, T0: Any, sigma0: Any) -> FrictionResult:
+        """Cold branch (no flash heating) at slip speed v [m/s], temperature T0 [K] and nominal
+        pressure sigma0 [Pa]; arrays broadcast. Review eqs. (17)-(21)."""
+        shape, v, T0, sigma0 = self._prepare(v, T0, sigma0)
+        p = self._evaluate(v, T0, sigma0, None)
+        z = np.zeros_like(v)
+        return FrictionResult(p["mu_visc"] + p["mu_cont"], p["mu_visc"], p["mu_cont"],
+                              p["area"], z, z, z, np.zeros(v.size, int)).reshape(shape)
+
+    def hot(self, v: Any, T0: Any, sigma0: Any) -> FrictionResult:
+        """Hot branch: flash temperature fully developed and self-consistent (module docstring
+        and :mod:`lookup.flash_temperature`); residual [K] reported per point."""
+        shape, v, T0, sigma0 = self._prepare(v, T0, sigma0)
+        x, rnorm, iters, p = self._fixed_point(v, T0, sigma0)
+        self.last_hot_residual = float(rnorm.max()) if rnorm.size else 0.0
+        return FrictionResult(p["mu_visc"] + p["mu_cont"], p["mu_visc"], p["mu_cont"],
+                              p["area"], x[:, 0], x.max(axis=1), rnorm, iters).reshape(shape)
+
+    def grid_slice(self, v: float, T0: np.ndarray, sigma0: np.ndarray) -> dict[str, np.ndarray]:
+        """All grid variables at one slip speed over T0 (nT,) x sigma0 (np,) -> (nT, np)."""
+        T = np.asarray(T0, float)[:, None]
+        p = np.asarray(sigma0, float)[None, :]
+        c = self.cold(v, T, p)
+        h = self.hot(v, T, p)
+        return {"mu_cold": c.mu, "mu_hot": h.mu, "mu_visc_cold": c.mu_visc,
+                "mu_cont_cold": c.mu_cont, "mu_visc_hot": h.mu_visc, "mu_cont_hot": h.mu_cont,
+                "area_cold": c.area, "area_hot": h.area, "dT_flash": h.dT_flash,
+                "residual_hot": h.residual}
+
+    def mu_table(self, v: Any, T0: float, sigma0: float) -> tuple[np.ndarray, ...]:
+        """Columns of ``tirefric mu``: v, mu_cold, mu_hot, mu_visc_cold, mu_cont_cold,
+        area_cold, area_hot, dT_flash."""
+        v = np.atleast_1d(np.asarray(v, float))
+        c = self.cold(v, T0, sigma0)
+        h = self.hot(v, T0, sigma0)
+        return (v, c.mu, h.mu, c.mu_visc, c.mu_cont, c.area, h.area, h.dT_flash)
