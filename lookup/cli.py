@@ -92,8 +92,9 @@ def _run_mu(args: argparse.Namespace) -> int:
     if T_C <= -273.15:
         raise InputError("temperature below absolute zero", source="--T", value=args.T)
     model = PerssonFriction(load_compound(args.compound), load_surface(args.surface))
-    rows = [dict(zip(MU_KEYS, vals, strict=True)) for vals in zip(*model.mu_table(v, T_C + 273.15, p),
-                                                                 strict=True)]
+    columns = model.mu_table(v, T_C + 273.15, p)
+    rows = [{k: float(c[i]) for k, c in zip(MU_KEYS, columns, strict=True)}
+            for i in range(len(v))]
     if args.json:
         dump_json({"compound": model.compound.name, "surface": model.surface.name,
                    "T_C": T_C, "p_Pa": p, "q1_per_m": model.q1, "points": rows,

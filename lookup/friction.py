@@ -13,15 +13,25 @@ Cold branch (review eqs. 17-20, temperature T0 everywhere):
 
 with the loss modulus E_I = -Im E >= 0 (physics-notes trap 1: the review writes Im E, which is
 negative with its own eq. 4) and the corrected eq. (18) (trap 2). The angular integrals use the
-symmetry of trap 3: 4 x Gauss-Legendre on [0, pi/2]. The q-integrals are trapezoidal in ln q.
+symmetry of trap 3: 4 x Gauss-Legendre on [0, pi/2]. G(q) is trapezoidal in ln q; eq. (17) is
+integrated in G with the exact Phi(G) = int S P dG (:mod:`lookup.contact`), which follows the
+steep fall of P(q) on glassy rubber that no q-quadrature resolves.
 The real contact area is A/A0 = P(q1) and mu = mu_visc + sigma_f(v, T) P(q1) / sigma0
 (review eq. 12, the text before eq. 17).
 
 Hot branch: the same integrals with the modulus of scale q evaluated at T0 + dT_q and the shear
 law at T0 + dT_surface, where the flash temperatures are produced by the friction itself
-(:mod:`lookup.flash_temperature`). The fixed point dT = F(dT) is solved per point with Anderson
-acceleration (Walker & Ni, SIAM J. Numer. Anal. 49 (2011) 1715) on top of damped Picard
-steps; the final max-norm residual |F(dT) - dT| [K] is reported with every hot result.
+(:mod:`lookup.flash_temperature`). The fixed point dT = F(dT) is solved per point by relaxed
+iteration with Aitken's dynamic relaxation factor (Irons & Tuck, Int. J. Numer. Meth. Eng. 1
+(1969) 275; as used for partitioned coupling by Kuettler & Wall, Comput. Mech. 43 (2008) 61),
+a secant update along the dominant mode. It copes with the two regimes met here: strong
+negative feedback on glassy rubber (heating softens it, the macro-contact fraction P_m grows
+and the heat per contact area collapses; slopes down to about -5) and positive feedback with
+local gain above 1 far from the fixed point (heating moves the adhesive peak towards the
+sliding speed). Only positive relaxation is used, so the solution is the stable steady state of
+d(dT)/dt = F(dT) - dT reached from the cold state (dT = 0), i.e. the flash temperature that a
+contact heating up from cold would settle to; unstable branches of an S-shaped response are
+not reported. The final max-norm residual |F(dT) - dT| [K] is reported with every hot result.
 """
 
 from __future__ import annotations
@@ -30,10 +40,10 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.special import erf
 
 from . import __version__
 from .compound import Compound
+from .contact import Phi, contact_fraction
 from .errors import InputError
 from .flash_temperature import HeatKernelSettings, heat_kernel, lateral_factor
 from .surface import Surface
@@ -57,10 +67,10 @@ class EngineSettings:
         Convergence tolerance of the flash-temperature fixed point, max-norm [K].
     hot_max_iter : int
         Iteration limit of the fixed point.
-    anderson_depth : int
-        History length of the Anderson acceleration.
     damping : float
-        Picard mixing parameter.
+        Initial relaxation of the fixed-point iteration.
+    omega_min, omega_max : float
+        Bounds on the Aitken relaxation factor (kept positive, see module docstring).
     road_heat : bool
         Let the road take part of the heat when the surface has thermal data
         (:mod:`lookup.flash_temperature`, item 4).
@@ -74,8 +84,9 @@ class EngineSettings:
     modulus_per_decade: int = 40
     hot_tol: float = 1e-3
     hot_max_iter: int = 300
-    anderson_depth: int = 5
     damping: float = 0.5
+    omega_min: float = 0.02
+    omega_max: float = 2.0
     road_heat: bool = True
     tau_per_decade: int = 3
 
@@ -84,8 +95,9 @@ class EngineSettings:
                   ("gamma", 0.0 <= self.gamma <= 1.0),
                   ("modulus_per_decade", self.modulus_per_decade >= 4),
                   ("hot_tol", self.hot_tol > 0), ("hot_max_iter", self.hot_max_iter >= 1),
-                  ("anderson_depth", self.anderson_depth >= 0),
                   ("damping", 0.0 < self.damping <= 1.0),
+                  ("omega_min", 0.0 < self.omega_min <= self.damping),
+                  ("omega_max", self.omega_max >= self.damping),
                   ("tau_per_decade", self.tau_per_decade >= 1)]
         for name, ok in checks:
             if not ok:
@@ -234,16 +246,22 @@ class PerssonFriction:
             T_surf = T0 + dT[:, 0]
         A_I, A_2 = self._angular(v, la)
         s2 = (1.0 / sigma0**2)[:, None]
-        g = 0.125 * self.F * A_2 * s2
-        G = np.concatenate([np.zeros((v.size, 1)),
-                            np.cumsum(0.5 * (g[:, 1:] + g[:, :-1]) * self.dl, axis=1)], axis=1)
-        with np.errstate(divide="ignore"):
-            P = erf(0.5 / np.sqrt(G))
-        gam = self.settings.gamma
-        S = gam + (1.0 - gam) * P * P
-        dmu = 0.5 * self.F * S * P * A_I / sigma0[:, None]  # per d(ln q)
-        dmu_w = dmu * self.w_lnq
-        mu_visc = dmu_w.sum(axis=1)
+        g = 0.125 * self.F * A_2 * s2  # dG/dln q, eq. (19)
+        gg = g[:, 1:] + g[:, :-1]
+        G = np.concatenate([np.zeros((v.size, 1)), np.cumsum(0.5 * gg * self.dl, axis=1)],
+                           axis=1)
+        P = contact_fraction(G)
+        # eq. (17) as 4 sigma0 int (A_I/A_2) S P dG, interval by interval with the exact
+        # Phi(G) = int S P dG and the g-weighted mean of A_I/A_2 (lookup.contact docstring)
+        ag = A_I / A_2 * g
+        with np.errstate(invalid="ignore", divide="ignore"):
+            rho = np.where(gg > 0, (ag[:, 1:] + ag[:, :-1]) / gg, 0.0)
+        PhiG = Phi(G, self.settings.gamma)
+        contrib = 4.0 * sigma0[:, None] * rho * np.diff(PhiG, axis=1)
+        zero = np.zeros((v.size, 1))
+        dmu_w = 0.5 * (np.concatenate([contrib, zero], axis=1)
+                       + np.concatenate([zero, contrib], axis=1))  # per q node
+        mu_visc = contrib.sum(axis=1)
         area = P[:, -1]
         sig_f = self.compound.adhesion.sigma_f(v, T_surf)
         mu_cont = sig_f * area / sigma0
@@ -297,37 +315,31 @@ class PerssonFriction:
         res = fx - x
         rnorm = np.abs(res).max(axis=1)
         iters = np.ones(B, dtype=int)
-        hist_x: list[np.ndarray] = []
-        hist_r: list[np.ndarray] = []
-        beta = s.damping
+        omega = np.full(B, s.damping)  # per-point relaxation, updated by Aitken's rule
         active = rnorm > s.hot_tol
         for _ in range(s.hot_max_iter):
             if not active.any():
                 break
             idx = np.flatnonzero(active)
-            xa, ra = x[idx], res[idx]
-            new = xa + beta * ra
-            m = len(hist_x)
-            if m:
-                dX = np.stack([xa - h[idx] for h in hist_x], axis=2)  # (b, n, m)
-                dR = np.stack([ra - h[idx] for h in hist_r], axis=2)
-                A = np.einsum("bnm,bnk->bmk", dR, dR)
-                lam = 1e-10 * np.einsum("bmm->b", A)[:, None, None] + 1e-300
-                rhs = np.einsum("bnm,bn->bm", dR, ra)
-                gam = np.linalg.solve(A + lam * np.eye(m)[None], rhs[..., None])[..., 0]
-                new = new - np.einsum("bnm,bm->bn", dX + beta * dR, gam)
-            new = np.clip(new, 0.0, 5000.0)
-            fnew, pnew = F(new, idx)
-            rnew = fnew - new
-            hist_x.append(x.copy())
-            hist_r.append(res.copy())
-            if len(hist_x) > s.anderson_depth:
-                hist_x.pop(0)
-                hist_r.pop(0)
-            x[idx], res[idx] = new, rnew
+            xa, ra, wa = x[idx], res[idx], omega[idx]
+            new = np.clip(xa + wa[:, None] * ra, 0.0, 5000.0)
+            fn, pn = F(new, idx)
+            rn = fn - new
+            # Aitken / Irons-Tuck dynamic relaxation: a secant estimate of the best
+            # relaxation along the dominant mode, w <- -w (r_k . dr) / |dr|^2
+            dr = rn - ra
+            dd = np.einsum("bn,bn->b", dr, dr)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                w_new = -wa * np.einsum("bn,bn->b", ra, dr) / dd
+            w_new = np.where(np.isfinite(w_new) & (dd > 0), w_new, wa)
+            # positive relaxation only: the physical hot state is a stable steady state of
+            # d(dT)/dt = F(dT) - dT reached from the cold start (a negative factor would also
+            # converge to unstable branches)
+            omega[idx] = np.clip(w_new, s.omega_min, s.omega_max)
+            x[idx], res[idx] = new, rn
             for k in parts:
-                parts[k][idx] = pnew[k]
-            rnorm[idx] = np.abs(rnew).max(axis=1)
+                parts[k][idx] = pn[k]
+            rnorm[idx] = np.abs(rn).max(axis=1)
             iters[idx] += 1
             active = rnorm > s.hot_tol
         # report the friction at the final iterate together with its residual

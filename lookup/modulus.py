@@ -250,7 +250,7 @@ class ModulusTable:
                      points_per_decade: int = 40) -> ModulusTable:
         """Sample ``modulus`` (times the softening factors eta_R, eta_I) on a log grid."""
         lo, hi = log10_omega_range
-        n = int(round((hi - lo) * points_per_decade)) + 1
+        n = round((hi - lo) * points_per_decade) + 1
         lw = np.linspace(lo, hi, n)
         ER, EI = modulus.storage_loss(10.0**lw)
         ER = np.asarray(ER) * eta_R

@@ -1,7 +1,8 @@
 r"""Road roughness: the 2D isotropic power spectrum C(q) and the large-wavenumber cut-off q1.
 
 Convention (review sec. 4, physics-notes trap 4):
-:math:`C(q) = (2\pi)^{-2}\int d^2x\,\langle h(\mathbf{x})h(\mathbf{0})\rangle e^{-i\mathbf{q}\cdot\mathbf{x}}`,
+:math:`C(q) = (2\pi)^{-2}\int d^2x\,\langle h(\mathbf{x})h(\mathbf{0})\rangle
+e^{-i\mathbf{q}\cdot\mathbf{x}}`,
 so that :math:`h_{rms}^2 = 2\pi\int q\,C(q)\,dq` and the cumulative rms slope is
 :math:`\xi^2(q) = 2\pi\int_{q_0}^{q} q'^3 C(q')\,dq'`.
 
