@@ -28,7 +28,9 @@ File layout (SI unless written as ``"<number> <unit>"``)::
     [adhesion]                     # review eq. (21)-(22)
     model = "eq21"                 # sigma_f0 [Pa], c, v_star [m/s], T_ref,
     shift = "arrhenius"            # activation_energy [J or "1 eV"]; or shift = "bulk"
-    # or model = "schallamach" (review Appendix A) or "none"
+    # or model = "schallamach" (review Appendix A): sigma_star [Pa], v_star [m/s], delta_E
+    #    [J or "0.075 eV"], nu1_over_nu0, T_ref, tau0_shift = "bulk"|"arrhenius"|"none",
+    #    mean_force = "A5" (eq. A21, default) | "A4"; or "none"
 
     [thermal]
     rho = 1500.0                   # kg/m^3
@@ -221,7 +223,19 @@ def _load_adhesion(t: Table | None, bulk: ShiftFactor) -> ShearLaw:
     if model == "schallamach":
         from .schallamach import SchallamachShearLaw
 
-        return SchallamachShearLaw.from_table(t, bulk)
+        T_ref = t.quantity("T_ref", "temperature", positive=True)
+        kind = t.string("tau0_shift", choices=("bulk", "arrhenius", "none"))
+        tau0: ShiftFactor | None = None
+        if kind == "bulk":
+            tau0 = bulk
+        elif kind == "arrhenius":
+            tau0 = Arrhenius(t.quantity("activation_energy", "energy", positive=True), T_ref)
+        return SchallamachShearLaw.from_energies(
+            t.quantity("sigma_star", "pressure", nonnegative=True),
+            t.quantity("v_star", "velocity", positive=True),
+            t.quantity("delta_E", "energy"),
+            t.quantity("nu1_over_nu0", "dimensionless", 1.0, positive=True), T_ref, tau0,
+            t.string("mean_force", "A5", choices=("A5", "A4")))
     T_ref = t.quantity("T_ref", "temperature", positive=True)
     shift_kind = t.string("shift", choices=("arrhenius", "bulk"))
     shift: ShiftFactor

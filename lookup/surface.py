@@ -14,7 +14,9 @@ File layout (all quantities SI unless written as ``"<number> <unit>"``)::
     H = 0.9                     # Hurst exponent
     h_rms = "0.25 mm"           # or C0 = ... [m^4]
     # ... or model = "tabulated" with file = "data/x.csv" (columns "q [1/m]", "C [m^4]"),
-    # ... or model = "height_map" / "line_scan" with file = ... (see lookup.topography)
+    # ... or model = "height_map" / "line_scan" with file = ... (lookup.topography: a height
+    #     map or profile with its pixel size; a line scan is turned into the isotropic 2D C(q))
+    #     and optional bins_per_decade = 10
 
     [cutoff]                    # rule for q1 (review sec. 5.1)
     rule = "rms_slope"          # or "fixed" with q1 = ...
@@ -139,11 +141,21 @@ def _load_psd(t: Table) -> PowerSpectrum:
         cols = read_csv_table(path, {"q": "wavenumber", "C": "psd"})
         t.check_unknown()
         return TabulatedPSD(cols["q"], cols["C"], source=str(path))
-    from .topography import psd_from_file  # measured topography -> C(q)
+    # measured topography -> the review's 2D isotropic C(q) (lookup.topography)
+    from .topography import psd_2d_from_1d, read_height_map, read_line_scan
 
-    psd = psd_from_file(path, kind=model, table=t)
+    bins = t.integer("bins_per_decade", 10, minimum=2)
+    if model == "height_map":
+        q, C = read_height_map(path).psd(bins_per_decade=bins)
+    else:
+        q1d, C1 = read_line_scan(path).psd(bins_per_decade=bins)
+        q, C = q1d, psd_2d_from_1d(q1d, C1)
+    keep = np.isfinite(C) & (C > 0)
+    if keep.sum() < 2:
+        raise InputError("topography gives fewer than two usable spectrum points",
+                         source=path, field="file")
     t.check_unknown()
-    return psd
+    return TabulatedPSD(q[keep], C[keep], source=str(path))
 
 
 def load_surface(name_or_path: str | Path) -> Surface:

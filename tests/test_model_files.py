@@ -161,3 +161,56 @@ def test_cli_mu_bad_input_exits_nonzero(args, needle) -> None:
     r = subprocess.run([sys.executable, "-m", "lookup.cli", *argv], capture_output=True,
                        text=True)
     assert r.returncode == 2 and needle in r.stderr and "Traceback" not in r.stderr
+
+
+# -- measured topography and the Schallamach law through the loaders ---------------------------
+def _topography_surface(tmp_path: Path, kind: str, data: str) -> Path:
+    src = models_dir() / "surfaces" / "data" / data
+    (tmp_path / data).write_text(src.read_text())
+    psd = f'[psd]\nmodel = "{kind}"\nfile = "{data}"\n'
+    text = ASPHALT.split("[psd]")[0] + psd + "\n[cutoff]" + ASPHALT.split("[cutoff]")[1]
+    text = text.replace('rule = "rms_slope"  # q1 where the cumulative rms slope reaches xi1 '
+                        '(review sec. 5.1)\nxi1 = 1.0', 'rule = "fixed"\nq1 = 2e4')
+    p = tmp_path / f"{kind}.toml"
+    p.write_text(text)
+    return p
+
+
+@pytest.mark.parametrize("kind,data", [("height_map", "synthetic_self_affine_map.csv"),
+                                       ("line_scan", "synthetic_self_affine_scan.csv")])
+def test_measured_topography_surface(tmp_path: Path, kind, data) -> None:
+    """A surface from a height map or line scan carries exactly the spectrum that
+    lookup.topography computes from the file (2D, or the isotropic transform of the 1D one)."""
+    from lookup.topography import psd_2d_from_1d, read_height_map, read_line_scan
+
+    s = load_surface(_topography_surface(tmp_path, kind, data))
+    path = models_dir() / "surfaces" / "data" / data
+    if kind == "height_map":
+        q, C = read_height_map(path).psd()
+    else:
+        q, C1 = read_line_scan(path).psd()
+        C = psd_2d_from_1d(q, C1)
+    keep = C > 0
+    np.testing.assert_allclose(s.psd.C(q[keep]), C[keep], rtol=1e-9)
+    assert s.q1 == 2e4
+    m = PerssonFriction(load_compound("summer"), s)
+    assert np.isfinite(m.cold([1e-3, 1.0], 293.15, 3e5).mu).all()
+
+
+def test_schallamach_compound_loads(tmp_path: Path) -> None:
+    text = SUMMER
+    for line in ('sigma_f0 = "4 MPa"\n', "c = 0.17\n", 'shift = "bulk"\n'):
+        text = text.replace(line, "", 1)
+    text = text.replace('model = "eq21"', 'model = "schallamach"\nsigma_star = "9 MPa"\n'
+                        'delta_E = "0.0758 eV"\ntau0_shift = "bulk"')
+    p = tmp_path / "sch.toml"
+    p.write_text(text)
+    c = load_compound(p)
+    assert c.adhesion.describe()["model"] == "schallamach_appendix_A"
+    from lookup.schallamach import normalized_shear_stress
+
+    v = np.logspace(-6, 2, 161)
+    dE_kT = 0.0758 * 1.602176634e-19 / (1.380649e-23 * 293.15)
+    np.testing.assert_allclose(c.adhesion.sigma_f(v, 293.15),
+                               9e6 * normalized_shear_stress(v / 0.01, dE_kT), rtol=1e-9,
+                               err_msg="loader builds review eq. (A21) with the file's values")
