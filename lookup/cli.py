@@ -106,6 +106,48 @@ def _run_mu(args: argparse.Namespace) -> int:
     return 0
 
 
+# -- tirefric plot ------------------------------------------------------------------------------
+def register_plot(sub: argparse._SubParsersAction) -> None:
+    """Register ``tirefric plot friction|compound|surface``."""
+    p = sub.add_parser("plot", help="plots of friction, compounds and surfaces")
+    kinds = p.add_subparsers(dest="what", required=True, metavar="WHAT")
+    f = kinds.add_parser("friction", help="mu(v) cold and hot, flash temperature, A/A0 vs v")
+    f.add_argument("--compound", required=True, help="compound TOML file or shipped name")
+    f.add_argument("--surface", required=True, help="surface TOML file or shipped name")
+    f.add_argument("--T", default="0,20,50,80", help="temperatures [Celsius], comma separated")
+    f.add_argument("--p", default="3e5", help="nominal contact pressure [Pa]")
+    f.add_argument("-o", "--output", required=True, help="PNG file")
+    c = kinds.add_parser("compound", help="E', E'' and tan delta of a compound")
+    c.add_argument("compound", help="compound TOML file or shipped name")
+    c.add_argument("--T", default="20", help="temperatures [Celsius], comma separated")
+    c.add_argument("-o", "--output", required=True, help="PNG file")
+    s = kinds.add_parser("surface", help="C(q) and rms slope of a surface")
+    s.add_argument("surface", help="surface TOML file or shipped name")
+    s.add_argument("-o", "--output", required=True, help="PNG file")
+    p.set_defaults(func=_run_plot)
+
+
+def _run_plot(args: argparse.Namespace) -> int:
+    from . import plots
+    from .compound import load_compound
+    from .friction import PerssonFriction
+    from .surface import load_surface
+
+    if args.what == "friction":
+        p = parse_float(args.p, "--p")
+        if p <= 0:
+            raise InputError("nominal pressure must be > 0 Pa", source="--p", value=args.p)
+        model = PerssonFriction(load_compound(args.compound), load_surface(args.surface))
+        out = plots.plot_friction(model, parse_float_list(args.T, "--T"), p, args.output)
+    elif args.what == "compound":
+        out = plots.plot_compound(load_compound(args.compound), args.output,
+                                  parse_float_list(args.T, "--T"))
+    else:
+        out = plots.plot_surface(load_surface(args.surface), args.output)
+    print(f"wrote {out}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The top-level parser with every registered sub-command."""
     parser = argparse.ArgumentParser(
