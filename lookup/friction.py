@@ -31,7 +31,9 @@ local gain above 1 far from the fixed point (heating moves the adhesive peak tow
 sliding speed). Only positive relaxation is used, so the solution is the stable steady state of
 d(dT)/dt = F(dT) - dT reached from the cold state (dT = 0), i.e. the flash temperature that a
 contact heating up from cold would settle to; unstable branches of an S-shaped response are
-not reported. The final max-norm residual |F(dT) - dT| [K] is reported with every hot result.
+not reported. Points that Aitken's rule has not converged after ``aitken_iter`` iterations
+(near the fold of an S-shaped response the factor can oscillate between regimes) restart from
+the cold state with a fixed relaxation, which converges there. The final max-norm residual |F(dT) - dT| [K] is reported with every hot result.
 """
 
 from __future__ import annotations
@@ -71,6 +73,11 @@ class EngineSettings:
         Initial relaxation of the fixed-point iteration.
     omega_min, omega_max : float
         Bounds on the Aitken relaxation factor (kept positive, see module docstring).
+    aitken_iter : int
+        Iterations with Aitken relaxation before unconverged points restart from the cold
+        state with the fixed relaxation ``picard_relaxation``.
+    picard_relaxation : float
+        Relaxation of the fallback phase.
     road_heat : bool
         Let the road take part of the heat when the surface has thermal data
         (:mod:`lookup.flash_temperature`, item 4).
@@ -87,6 +94,8 @@ class EngineSettings:
     damping: float = 0.5
     omega_min: float = 0.02
     omega_max: float = 2.0
+    aitken_iter: int = 60
+    picard_relaxation: float = 0.3
     road_heat: bool = True
     tau_per_decade: int = 3
 
@@ -98,6 +107,8 @@ class EngineSettings:
                   ("damping", 0.0 < self.damping <= 1.0),
                   ("omega_min", 0.0 < self.omega_min <= self.damping),
                   ("omega_max", self.omega_max >= self.damping),
+                  ("aitken_iter", self.aitken_iter >= 1),
+                  ("picard_relaxation", 0.0 < self.picard_relaxation <= 1.0),
                   ("tau_per_decade", self.tau_per_decade >= 1)]
         for name, ok in checks:
             if not ok:
@@ -316,10 +327,23 @@ class PerssonFriction:
         rnorm = np.abs(res).max(axis=1)
         iters = np.ones(B, dtype=int)
         omega = np.full(B, s.damping)  # per-point relaxation, updated by Aitken's rule
+        plain = np.zeros(B, bool)  # points in the fallback phase (fixed relaxation)
         active = rnorm > s.hot_tol
-        for _ in range(s.hot_max_iter):
+        for it in range(s.hot_max_iter):
             if not active.any():
                 break
+            if it == s.aitken_iter:
+                # fallback: Aitken's factor can oscillate between the regimes of an S-shaped
+                # response; restart such points from the cold state with fixed relaxation,
+                # which converges to the stable state reached from cold (module docstring)
+                sw = np.flatnonzero(active)
+                plain[sw] = True
+                x[sw] = 0.0
+                f0, p0 = F(x[sw], sw)
+                res[sw] = f0
+                for k in parts:
+                    parts[k][sw] = p0[k]
+                omega[sw] = s.picard_relaxation
             idx = np.flatnonzero(active)
             xa, ra, wa = x[idx], res[idx], omega[idx]
             new = np.clip(xa + wa[:, None] * ra, 0.0, 5000.0)
@@ -335,7 +359,8 @@ class PerssonFriction:
             # positive relaxation only: the physical hot state is a stable steady state of
             # d(dT)/dt = F(dT) - dT reached from the cold start (a negative factor would also
             # converge to unstable branches)
-            omega[idx] = np.clip(w_new, s.omega_min, s.omega_max)
+            omega[idx] = np.where(plain[idx], omega[idx],
+                                  np.clip(w_new, s.omega_min, s.omega_max))
             x[idx], res[idx] = new, rn
             for k in parts:
                 parts[k][idx] = pn[k]
