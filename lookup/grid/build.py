@@ -1,0 +1,428 @@
+"""Building friction grids: parallel over slip-speed slices, resumable, local or on Dask.
+
+One task computes one *slice*: every (T0, p) node at one slip speed, through the engine's
+``grid_slice(v, T0, p) -> {name: (nT, np) array}`` (:meth:`lookup.friction.PerssonFriction.
+grid_slice`). Slices are independent, so the build is embarrassingly parallel:
+
+* ``workers == 1``: in this process;
+* ``workers > 1``: a local :class:`concurrent.futures.ProcessPoolExecutor` (the model is sent
+  to each worker once, at start-up);
+* ``scheduler``: an existing Dask distributed cluster (address, or a ``distributed.Client``);
+  the model is scattered to every worker once.
+
+Every task computes a slice from the model and its own speed only, so the result does not
+depend on how the slices are distributed: serial, process-pool and Dask builds give identical
+numbers (tested).
+
+Resuming: finished slices are written, as they arrive, to a checkpoint next to the output
+(``<output>.partial.npz``, replaced atomically), together with a fingerprint of the spec and
+the model description. A build started again with the same output skips the slices found
+there; a checkpoint with a different fingerprint is set aside (renamed ``*.stale.npz``), not
+reused. The checkpoint is removed when the grid file has been written.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import multiprocessing
+import os
+import signal
+import sys
+import time
+from collections.abc import Callable, Iterator
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Protocol
+
+import numpy as np
+
+from ..errors import GridError, InputError
+from .reader import VARIABLES, FrictionGrid, _json_default, round_to_float32
+from .spec import GridSpec, load_spec
+from .store import package_version, save_grid, utc_now
+
+
+class SliceModel(Protocol):
+    """What the builder needs from a friction model (``lookup.friction.PerssonFriction``)."""
+
+    def grid_slice(self, v: float, T0: np.ndarray, sigma0: np.ndarray
+                   ) -> dict[str, np.ndarray]: ...
+
+    def describe(self) -> dict[str, Any]: ...
+
+
+def make_model(spec: GridSpec) -> SliceModel:
+    """The Persson engine for a spec: compound, surface and ``[engine]`` settings."""
+    from ..compound import load_compound
+    from ..friction import EngineSettings, PerssonFriction
+    from ..surface import load_surface
+
+    try:
+        settings = EngineSettings(**spec.engine)
+    except TypeError as exc:
+        raise InputError(f"bad engine settings: {exc}", source=spec.source,
+                         field="engine") from None
+    return PerssonFriction(load_compound(spec.compound), load_surface(spec.surface),
+                           settings=settings)
+
+
+# -- one slice ---------------------------------------------------------------------------------
+def compute_slice(model: SliceModel, v: float, T: np.ndarray, p: np.ndarray
+                  ) -> dict[str, np.ndarray]:
+    """Run ``model.grid_slice`` at one speed; float64 arrays of shape ``(nT, np)``, checked.
+
+    Raises
+    ------
+    GridError
+        A variable is missing, has the wrong shape or a non-finite value (named with v, T, p).
+    """
+    out = model.grid_slice(float(v), np.asarray(T, float), np.asarray(p, float))
+    missing = [n for n in VARIABLES if n not in out]
+    if missing:
+        raise GridError(f"the model's grid_slice at v = {v:g} m/s did not return {missing}")
+    res = {n: np.asarray(out[n], dtype=float) for n in VARIABLES}
+    shape = (np.size(T), np.size(p))
+    for n, a in res.items():
+        if a.shape != shape:
+            raise GridError(f"the model's grid_slice at v = {v:g} m/s returned {n} with shape "
+                            f"{a.shape}, expected {shape} = (T, p)")
+        if not np.isfinite(a).all():
+            j, k = (int(x) for x in np.argwhere(~np.isfinite(a))[0])
+            raise GridError(f"the model returned a non-finite {n} = {a[j, k]!r} at "
+                            f"v = {v:g} m/s, T = {T[j]:g} K, p = {p[k]:g} Pa")
+    return res
+
+
+_WORKER_MODEL: SliceModel | None = None
+
+
+def _init_worker(model: SliceModel) -> None:
+    global _WORKER_MODEL
+    _WORKER_MODEL = model
+    # Ctrl-C goes to the whole process group: let the parent handle it (checkpoint, then stop
+    # the pool) instead of every worker dying with a KeyboardInterrupt of its own
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _worker_slice(iv: int, v: float, T: np.ndarray, p: np.ndarray
+                  ) -> tuple[int, dict[str, np.ndarray], float]:
+    t0 = time.perf_counter()
+    if _WORKER_MODEL is None:
+        raise RuntimeError("worker process was not initialised with a model")
+    out = compute_slice(_WORKER_MODEL, v, T, p)
+    return iv, out, time.perf_counter() - t0
+
+
+def _dask_slice(model: SliceModel, iv: int, v: float, T: np.ndarray, p: np.ndarray
+                ) -> tuple[int, dict[str, np.ndarray], float]:
+    t0 = time.perf_counter()
+    out = compute_slice(model, v, T, p)
+    return iv, out, time.perf_counter() - t0
+
+
+# -- checkpoint --------------------------------------------------------------------------------
+def fingerprint(spec: GridSpec, description: dict[str, Any]) -> str:
+    """SHA-256 over the spec's axes and the model description: what a slice depends on."""
+    h = hashlib.sha256()
+    for a in (spec.v, spec.T, spec.p):
+        h.update(np.ascontiguousarray(a, dtype="<f8").tobytes())
+    h.update(json.dumps(description, sort_keys=True, default=_json_default).encode())
+    return h.hexdigest()
+
+
+@dataclass
+class Checkpoint:
+    """Finished slices of an interrupted build (``<output>.partial.npz``)."""
+
+    path: Path
+    fingerprint: str
+    shape: tuple[int, int, int]
+
+    def __post_init__(self) -> None:
+        self.done = np.zeros(self.shape[0], dtype=bool)
+        self.data = {n: np.zeros(self.shape) for n in VARIABLES}
+        self.seconds = np.zeros(self.shape[0])
+
+    @classmethod
+    def for_output(cls, output: Path) -> Path:
+        """The checkpoint path belonging to an output file."""
+        return output.with_name(output.name + ".partial.npz")
+
+    def load(self) -> bool:
+        """Read finished slices; False (and the file set aside) if it belongs to another build."""
+        if not self.path.is_file():
+            return False
+        try:
+            with np.load(self.path, allow_pickle=False) as z:
+                fp = str(z["fingerprint"])
+                done = z["done"]
+                data = {n: z[n] for n in VARIABLES}
+                seconds = z["seconds"]
+        except (OSError, ValueError, KeyError, EOFError) as exc:
+            self._set_aside(f"unreadable ({type(exc).__name__})")
+            return False
+        if fp != self.fingerprint or done.shape != (self.shape[0],) or any(
+                a.shape != self.shape for a in data.values()):
+            self._set_aside("written by a build with another spec or model")
+            return False
+        self.done, self.data, self.seconds = done.astype(bool), data, seconds
+        return True
+
+    def _set_aside(self, why: str) -> None:
+        stale = self.path.with_name(self.path.name.replace(".partial.npz", ".stale.npz"))
+        os.replace(self.path, stale)
+        print(f"tirefric grid build: checkpoint {self.path} {why}; moved to {stale}, "
+              f"starting afresh", file=sys.stderr)
+
+    def put(self, iv: int, out: dict[str, np.ndarray], seconds: float) -> None:
+        """Store a finished slice."""
+        for n in VARIABLES:
+            self.data[n][iv] = out[n]
+        self.done[iv] = True
+        self.seconds[iv] = seconds
+
+    def save(self) -> None:
+        """Write atomically (temporary file, then rename)."""
+        tmp = self.path.with_name(f".{self.path.name}.tmp-{os.getpid()}")
+        with open(tmp, "wb") as fh:
+            np.savez(fh, fingerprint=np.array(self.fingerprint), done=self.done,
+                     seconds=self.seconds, **self.data)
+        os.replace(tmp, self.path)
+
+    def remove(self) -> None:
+        """Delete the checkpoint (after the grid file is written)."""
+        if self.path.exists():
+            self.path.unlink()
+
+
+# -- the build ---------------------------------------------------------------------------------
+@dataclass
+class BuildReport:
+    """What a build did: slices computed and reused, wall and CPU time, throughput."""
+
+    output: Path
+    n_slices: int
+    n_computed: int
+    n_reused: int
+    wall_s: float
+    slice_cpu_s: float
+    workers: int
+    points_per_slice: int
+
+    @property
+    def points_per_s_per_core(self) -> float:
+        """Grid nodes (cold and hot) per second of one core, from the slice compute times."""
+        if self.slice_cpu_s <= 0:
+            return math.nan
+        return self.n_computed * self.points_per_slice / self.slice_cpu_s
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-able form."""
+        return {"output": str(self.output), "n_slices": self.n_slices,
+                "n_computed": self.n_computed, "n_reused": self.n_reused,
+                "wall_s": self.wall_s, "slice_cpu_s": self.slice_cpu_s,
+                "workers": self.workers, "points_per_s_per_core": self.points_per_s_per_core}
+
+
+def _progress(total: int, initial: int, enabled: bool, desc: str):
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, initial=initial, unit="slice", desc=desc, disable=not enabled,
+                dynamic_ncols=True, smoothing=0.1)
+
+
+def _run_serial(model: SliceModel, remaining: list[int], spec: GridSpec
+                ) -> Iterator[tuple[int, dict[str, np.ndarray], float]]:
+    for iv in remaining:
+        t0 = time.perf_counter()
+        out = compute_slice(model, spec.v[iv], spec.T, spec.p)
+        yield iv, out, time.perf_counter() - t0
+
+
+def _run_pool(model: SliceModel, remaining: list[int], spec: GridSpec, workers: int
+              ) -> Iterator[tuple[int, dict[str, np.ndarray], float]]:
+    # fork where available: workers inherit the imported modules (fast start); the model is
+    # still passed explicitly, once per worker, through the initialiser
+    methods = multiprocessing.get_all_start_methods()
+    ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                               initargs=(model,))
+    try:
+        pending = {pool.submit(_worker_slice, iv, float(spec.v[iv]), spec.T, spec.p)
+                   for iv in remaining}
+        while pending:
+            finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for fut in finished:
+                yield fut.result()
+    finally:
+        # on an interruption: drop queued slices, let running ones end, keep nothing half-done
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _run_dask(model: SliceModel, remaining: list[int], spec: GridSpec, scheduler: Any
+              ) -> Iterator[tuple[int, dict[str, np.ndarray], float]]:
+    from distributed import Client, as_completed
+
+    own = not isinstance(scheduler, Client)
+    client = Client(scheduler) if own else scheduler
+    try:
+        model_f = client.scatter(model, broadcast=True)
+        futures = [client.submit(_dask_slice, model_f, iv, float(spec.v[iv]), spec.T, spec.p,
+                                 pure=False) for iv in remaining]
+        try:
+            for fut in as_completed(futures):
+                yield fut.result()
+        finally:
+            client.cancel(futures)
+    finally:
+        if own:
+            client.close()
+
+
+def build_grid(
+    spec: GridSpec | str | Path,
+    output: str | Path,
+    *,
+    workers: int | None = None,
+    scheduler: Any = None,
+    model: SliceModel | None = None,
+    progress: bool = True,
+    resume: bool = True,
+    checkpoint_every_s: float = 2.0,
+    on_slice: Callable[[int], None] | None = None,
+    single_precision: bool = True,
+) -> tuple[FrictionGrid, BuildReport]:
+    """Build a friction grid and write it to ``output`` (``.nc``, or ``.npz`` for numpy only).
+
+    Parameters
+    ----------
+    spec
+        A :class:`GridSpec`, or a spec file / shipped spec name.
+    output
+        The grid file to write.
+    workers
+        Local worker processes (default: the CPU count); 1 computes in this process. Ignored
+        with ``scheduler``.
+    scheduler
+        Address of a Dask distributed scheduler, or a ``distributed.Client``.
+    model
+        The friction model (default: :func:`make_model` of the spec). Anything with
+        ``grid_slice`` and ``describe`` (:class:`SliceModel`) and picklable.
+    progress
+        Show a progress bar with ETA (tqdm, on stderr).
+    resume
+        Reuse finished slices of an interrupted build of the same spec (see module docstring).
+    checkpoint_every_s
+        Minimum time between checkpoint writes [s] (the last slice is always written).
+    on_slice
+        Called with each finished slice index (after it is checkpointed); for tests and
+        monitoring.
+    single_precision
+        Round the results to float32 precision (relative 6e-8, far below the interpolation
+        error) so that the file stores them as float32, half the size; the grid in memory is
+        float64 either way.
+
+    Returns
+    -------
+    (FrictionGrid, BuildReport)
+    """
+    if not isinstance(spec, GridSpec):
+        spec = load_spec(spec)
+    output = Path(output)
+    if output.suffix not in (".nc", ".npz"):
+        raise InputError("grid output must end in .nc (NetCDF-4) or .npz (numpy)",
+                         source=str(output))
+    if not output.parent.is_dir():
+        raise InputError("output folder does not exist", source=str(output.parent))
+    if workers is not None and workers < 1:
+        raise InputError("must be >= 1", source="--workers", value=workers)
+    model = make_model(spec) if model is None else model
+    description = model.describe()
+    nv, nT, np_ = spec.shape
+    ckpt = Checkpoint(Checkpoint.for_output(output), fingerprint(spec, description),
+                      spec.shape)
+    if resume:
+        ckpt.load()
+    elif ckpt.path.exists():
+        ckpt.remove()
+    n_reused = int(ckpt.done.sum())
+    # slowest slices (high speed: long hot solves) first, for a balanced finish
+    remaining = [int(i) for i in np.argsort(-spec.v, kind="stable") if not ckpt.done[i]]
+    n_workers = 1 if scheduler is None and workers == 1 else (
+        workers or os.cpu_count() or 1)
+    if scheduler is not None:
+        runner = _run_dask(model, remaining, spec, scheduler)
+        where = "dask"
+    elif n_workers == 1 or len(remaining) <= 1:
+        runner = _run_serial(model, remaining, spec)
+        where = "serial"
+    else:
+        runner = _run_pool(model, remaining, spec, min(n_workers, len(remaining)))
+        where = f"{min(n_workers, len(remaining))} processes"
+    t_start = time.perf_counter()
+    last_save = t_start
+    cpu = 0.0
+    bar = _progress(nv, n_reused, progress, f"grid {spec.name} ({where})")
+    try:
+        for iv, out, seconds in runner:
+            ckpt.put(iv, out, seconds)
+            cpu += seconds
+            bar.update(1)
+            bar.set_postfix(pts_per_s_core=f"{(bar.n - n_reused) * nT * np_ / max(cpu, 1e-9):.0f}",
+                            refresh=False)
+            now = time.perf_counter()
+            if now - last_save >= checkpoint_every_s or ckpt.done.all():
+                ckpt.save()
+                last_save = now
+            if on_slice is not None:
+                on_slice(iv)
+    except BaseException:
+        if ckpt.done.any():
+            ckpt.save()
+        raise
+    finally:
+        bar.close()
+        if hasattr(runner, "close"):
+            runner.close()
+    wall = time.perf_counter() - t_start
+    if not ckpt.done.all():
+        raise GridError(f"build of {output} incomplete: {int((~ckpt.done).sum())} slices "
+                        f"missing")
+    meta = grid_metadata(spec, description)
+    meta["build"] = {"wall_s": wall, "slice_cpu_s": float(ckpt.seconds.sum()),
+                     "runner": where, "resumed_slices": n_reused}
+    data = ({n: round_to_float32(a) for n, a in ckpt.data.items()} if single_precision
+            else ckpt.data)
+    meta["precision"] = "float32" if single_precision else "float64"
+    grid = FrictionGrid(np.log10(spec.v), spec.T, np.log10(spec.p), data, meta,
+                        source=str(output))
+    if output.suffix == ".npz":
+        grid.save_npz(output)
+    else:
+        save_grid(grid, output)
+    ckpt.remove()
+    report = BuildReport(output, nv, nv - n_reused, n_reused, wall, cpu,
+                         1 if where == "serial" else n_workers, nT * np_)
+    return grid, report
+
+
+def grid_metadata(spec: GridSpec, description: dict[str, Any]) -> dict[str, Any]:
+    """Provenance of a grid built from ``spec`` by a model with ``description``."""
+    d = json.loads(json.dumps(description, default=_json_default))
+    compound = d.get("compound", {})
+    surface = d.get("surface", {})
+    return {
+        "s0_m": float(d["s0_m"]), "D_m": float(d["D_m"]),
+        "q1_per_m": d.get("q1_per_m"), "q1_rule": d.get("q1_rule"),
+        "compound_name": compound.get("name") if isinstance(compound, dict) else str(compound),
+        "surface_name": surface.get("name") if isinstance(surface, dict) else str(surface),
+        "compound": compound, "surface": surface,
+        "engine_settings": d.get("settings", {}),
+        "engine": {k: v for k, v in d.items()
+                   if k not in ("compound", "surface", "settings")},
+        "spec": spec.to_dict(), "package_version": package_version(), "created": utc_now(),
+        "history": "tirefric grid build " + (spec.source if spec.source else spec.name),
+    }

@@ -1,0 +1,694 @@
+"""Friction grids in memory and their fast multilinear interpolation (numpy only).
+
+A :class:`FrictionGrid` holds the steady-sliding friction of one compound on one surface
+tabulated on three axes,
+
+================  =====================  =====================================================
+axis              unit                   meaning
+================  =====================  =====================================================
+``log10_v``       log10(m/s)             decimal logarithm of the slip speed v
+``T``             K                      background (tread) temperature T0
+``log10_p``       log10(Pa)              decimal logarithm of the nominal contact pressure p
+================  =====================  =====================================================
+
+and the variables of :data:`VARIABLES` on every node (arrays of shape ``(nv, nT, np)``):
+cold and hot friction coefficient with their viscoelastic and contact (adhesive) parts, the
+relative real contact area A/A0 of both branches, the flash temperature rise and the residual
+of the hot self-consistent solve. ``meta`` carries provenance (compound, surface, engine
+settings), the macroasperity contact diameter ``D_m`` and the blending length ``s0_m`` of eq.
+(28) in ``physics-notes.md``, and the content hash.
+
+Interpolation is multilinear in (log10 v, T, log10 p). Both log axes use base 10 (the pressure
+axis is stored as ``log10_p``; :attr:`FrictionGrid.log_p` is an alias).
+
+Out-of-range policy (explicit, never NaN)
+-----------------------------------------
+* The slip speed enters as ``|v|``; speeds below the first axis node ``v_min`` (including
+  v = 0, a tread element sticking or at standstill) are read at ``v_min``, the grid's
+  low-speed limit. This is normal operation and is not counted.
+* Every other query coordinate outside its axis (v above ``v_max``, T or p outside their
+  axes) is clamped to the nearest axis end and the grid's value there is returned (constant
+  extrapolation).
+* Clamped coordinates are counted per axis and side in :attr:`FrictionGrid.out_of_range_detail`
+  (``"below"`` / ``"above"``; ``log10_v`` ``"below"`` stays 0 by the rule above);
+  :attr:`FrictionGrid.out_of_range_count` gives the total per axis. A non-zero count means the
+  grid does not cover the use.
+* A NaN query coordinate is an error (:class:`~lookup.errors.GridError`), not a NaN result.
+
+This module runs inside an FMU: it imports only numpy and the standard library (and the
+stdlib-only :mod:`lookup.errors`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import zipfile
+import zlib
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import GridError
+
+#: Axis names in storage order, with units.
+AXES: tuple[str, str, str] = ("log10_v", "T", "log10_p")
+AXIS_UNITS: dict[str, str] = {"log10_v": "log10(m/s)", "T": "K", "log10_p": "log10(Pa)"}
+AXIS_LONG_NAMES: dict[str, str] = {
+    "log10_v": "decimal logarithm of the slip speed v [m/s]",
+    "T": "background temperature T0",
+    "log10_p": "decimal logarithm of the nominal contact pressure p [Pa]",
+}
+
+#: Variables of a complete grid, with units and descriptions.
+VARIABLES: tuple[str, ...] = (
+    "mu_cold", "mu_hot", "mu_visc_cold", "mu_cont_cold", "mu_visc_hot", "mu_cont_hot",
+    "area_cold", "area_hot", "dT_flash", "residual_hot",
+)
+VARIABLE_UNITS: dict[str, str] = {
+    "mu_cold": "1", "mu_hot": "1", "mu_visc_cold": "1", "mu_cont_cold": "1",
+    "mu_visc_hot": "1", "mu_cont_hot": "1", "area_cold": "1", "area_hot": "1",
+    "dT_flash": "K", "residual_hot": "K",
+}
+VARIABLE_LONG_NAMES: dict[str, str] = {
+    "mu_cold": "friction coefficient, cold branch (no flash heating)",
+    "mu_hot": "friction coefficient, hot branch (flash temperature fully developed)",
+    "mu_visc_cold": "viscoelastic part of mu_cold",
+    "mu_cont_cold": "contact (adhesive) part of mu_cold",
+    "mu_visc_hot": "viscoelastic part of mu_hot",
+    "mu_cont_hot": "contact (adhesive) part of mu_hot",
+    "area_cold": "relative real contact area A/A0, cold branch",
+    "area_hot": "relative real contact area A/A0, hot branch",
+    "dT_flash": "flash temperature rise of the hot branch",
+    "residual_hot": "convergence residual of the self-consistent hot solve",
+}
+#: Variables every grid must have (a reduced grid, e.g. for tests, may leave out the others).
+REQUIRED_VARIABLES: tuple[str, ...] = ("mu_cold", "mu_hot", "dT_flash")
+#: Metadata every grid must have.
+REQUIRED_META: tuple[str, ...] = ("s0_m", "D_m")
+#: Version of the file layout written by :meth:`FrictionGrid.save_npz` and ``store.save_grid``.
+FORMAT_VERSION = 1
+NPZ_FORMAT = "tirefric-friction-grid"
+
+DEFAULT_NAMES: tuple[str, ...] = ("mu_cold", "mu_hot", "dT_flash")
+
+
+def content_hash(axes: Mapping[str, np.ndarray], variables: Mapping[str, np.ndarray]) -> str:
+    """SHA-256 of the numeric content of a grid (axes and variables, not metadata).
+
+    The digest covers, in this order, each axis of :data:`AXES` and then each present variable
+    in the order of :data:`VARIABLES`: its name (UTF-8), its shape and its values as
+    little-endian float64 in C order. It is therefore independent of the file format (NetCDF
+    or npz) the grid was stored in.
+
+    Returns
+    -------
+    str
+        ``"sha256:<64 hex digits>"``.
+    """
+    h = hashlib.sha256()
+    items = [(a, axes[a]) for a in AXES] + [(v, variables[v]) for v in VARIABLES
+                                             if v in variables]
+    for name, arr in items:
+        a = np.ascontiguousarray(arr, dtype="<f8")
+        h.update(name.encode())
+        h.update(repr(tuple(a.shape)).encode())
+        h.update(a.tobytes())
+    return "sha256:" + h.hexdigest()
+
+
+def _validate_axis(name: str, values: Any, source: str) -> np.ndarray:
+    try:
+        a = np.array(values, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise GridError(f"{source}: axis '{name}' is not numeric ({exc})") from None
+    if a.ndim != 1:
+        raise GridError(f"{source}: axis '{name}' must be one-dimensional (shape {a.shape})")
+    if a.size < 2:
+        raise GridError(f"{source}: axis '{name}' needs at least 2 points (has {a.size})")
+    if not np.isfinite(a).all():
+        i = int(np.flatnonzero(~np.isfinite(a))[0])
+        raise GridError(f"{source}: axis '{name}' entry {i} is not finite ({a[i]!r})")
+    d = np.diff(a)
+    if not (d > 0).all():
+        i = int(np.flatnonzero(d <= 0)[0])
+        raise GridError(f"{source}: the points of axis '{name}' must be strictly ascending "
+                        f"(entry {i + 1} = {a[i + 1]!r} follows {a[i]!r})")
+    return a
+
+
+def _is_uniform(a: np.ndarray) -> bool:
+    """Whether the axis nodes are equally spaced to rounding (then index arithmetic is exact)."""
+    d = np.diff(a)
+    return bool(np.all(np.abs(d - d.mean()) <= 1e-9 * abs(d.mean())))
+
+
+class FrictionGrid:
+    """Friction tables on (log10 v, T, log10 p) with fast multilinear interpolation.
+
+    Parameters
+    ----------
+    log10_v
+        Slip-speed axis, log10 of v in m/s, strictly ascending.
+    T
+        Background-temperature axis [K], strictly ascending.
+    log10_p
+        Nominal-pressure axis, log10 of p in Pa, strictly ascending.
+    variables
+        Name -> array of shape ``(len(log10_v), len(T), len(log10_p))``; names from
+        :data:`VARIABLES`, at least :data:`REQUIRED_VARIABLES`; all values finite.
+    meta
+        Provenance and constants; must contain ``"s0_m"`` and ``"D_m"`` [m] (positive
+        floats). The key ``"hash"`` is set to :func:`content_hash`; if ``meta`` already carries
+        a hash that differs, the content was altered and :class:`GridError` is raised.
+    source
+        Where the grid came from (a file name), used in error messages.
+
+    Raises
+    ------
+    GridError
+        Non-monotonic or non-finite axes, wrong shapes, NaN/inf values, unknown or missing
+        variables, missing metadata or a hash mismatch; the message names the item.
+    """
+
+    def __init__(
+        self,
+        log10_v: Any,
+        T: Any,
+        log10_p: Any,
+        variables: Mapping[str, Any],
+        meta: Mapping[str, Any] | None = None,
+        *,
+        source: str = "grid",
+    ) -> None:
+        self.source = str(source)
+        axes = {"log10_v": log10_v, "T": T, "log10_p": log10_p}
+        self.axes: dict[str, np.ndarray] = {
+            n: _validate_axis(n, axes[n], self.source) for n in AXES}
+        shape = tuple(self.axes[n].size for n in AXES)
+        unknown = sorted(set(variables) - set(VARIABLES))
+        if unknown:
+            raise GridError(f"{self.source}: unknown variable(s) {unknown} "
+                            f"(known: {', '.join(VARIABLES)})")
+        missing = [n for n in REQUIRED_VARIABLES if n not in variables]
+        if missing:
+            raise GridError(f"{self.source}: required variable(s) missing: {missing}")
+        self.variables: dict[str, np.ndarray] = {}
+        for name in VARIABLES:
+            if name not in variables:
+                continue
+            try:
+                arr = np.array(variables[name], dtype=float)
+            except (TypeError, ValueError) as exc:
+                raise GridError(f"{self.source}: variable '{name}' is not numeric "
+                                f"({exc})") from None
+            if arr.shape != shape:
+                raise GridError(f"{self.source}: variable '{name}' has shape {arr.shape}, "
+                                f"expected {shape} = (log10_v, T, log10_p)")
+            bad = ~np.isfinite(arr)
+            if bad.any():
+                idx = tuple(int(i) for i in np.argwhere(bad)[0])
+                raise GridError(f"{self.source}: variable '{name}' has {int(bad.sum())} "
+                                f"non-finite value(s), first at index {idx} "
+                                f"({arr[idx]!r})")
+            arr.flags.writeable = False
+            self.variables[name] = arr
+        for a in self.axes.values():
+            a.flags.writeable = False
+        self.meta: dict[str, Any] = dict(meta or {})
+        for key in REQUIRED_META:
+            if key not in self.meta:
+                raise GridError(f"{self.source}: metadata '{key}' is missing")
+            try:
+                val = float(self.meta[key])
+            except (TypeError, ValueError):
+                raise GridError(f"{self.source}: metadata '{key}' is not a number "
+                                f"({self.meta[key]!r})") from None
+            if not (math.isfinite(val) and val > 0):
+                raise GridError(f"{self.source}: metadata '{key}' must be a positive "
+                                f"length in m (is {val!r})")
+            self.meta[key] = val
+        digest = content_hash(self.axes, self.variables)
+        stored = self.meta.get("hash")
+        if stored is not None and stored != digest:
+            raise GridError(f"{self.source}: content hash mismatch (stored {stored}, "
+                            f"computed {digest}): the file is corrupt or was altered")
+        self.meta["hash"] = digest
+        self._setup_interpolation()
+        self.reset_out_of_range_count()
+
+    # -- construction helpers -----------------------------------------------------------------
+    @classmethod
+    def from_arrays(
+        cls,
+        v: Any,
+        T: Any,
+        p: Any,
+        variables: Mapping[str, Any],
+        *,
+        s0_m: float,
+        D_m: float,
+        meta: Mapping[str, Any] | None = None,
+    ) -> FrictionGrid:
+        """Build a grid from axes in plain units.
+
+        Parameters
+        ----------
+        v
+            Slip speeds [m/s], positive, ascending (stored as log10).
+        T
+            Background temperatures [K], ascending.
+        p
+            Nominal pressures [Pa], positive, ascending (stored as log10).
+        variables
+            Name -> array of shape ``(len(v), len(T), len(p))``.
+        s0_m, D_m
+            Blending slip length s0 and macroasperity contact diameter D [m].
+        meta
+            Further metadata (provenance).
+        """
+        v = np.asarray(v, dtype=float)
+        p = np.asarray(p, dtype=float)
+        if (v <= 0).any() or (p <= 0).any():
+            raise GridError("from_arrays: slip speeds and pressures must be > 0 "
+                            "(their axes are stored as log10)")
+        m = dict(meta or {})
+        m.update(s0_m=s0_m, D_m=D_m)
+        return cls(np.log10(v), T, np.log10(p), variables, m, source="from_arrays")
+
+    @classmethod
+    def constant(
+        cls,
+        mu_cold: float,
+        mu_hot: float,
+        *,
+        s0_m: float | None = None,
+        D_m: float = 1e-3,
+        dT_flash: float = 0.0,
+        area: float = 0.0,
+        v_range: tuple[float, float] = (1e-6, 40.0),
+        T_range: tuple[float, float] = (253.15, 393.15),
+        p_range: tuple[float, float] = (5e4, 2e6),
+    ) -> FrictionGrid:
+        """A flat grid (every node equal), e.g. for the constant-friction brush limit.
+
+        Parameters
+        ----------
+        mu_cold, mu_hot
+            Friction coefficients of the cold and hot branch on every node.
+        s0_m
+            Blending slip length s0 of eq. (28) [m]; default ``0.2 * D_m``
+            (physics-notes: s0 ~ 0.2 D).
+        D_m
+            Macroasperity contact diameter D [m].
+        dT_flash
+            Flash temperature rise on every node [K].
+        area
+            Relative contact area A/A0 of both branches on every node.
+        v_range, T_range, p_range
+            Axis ends [m/s], [K], [Pa]; each axis has two nodes.
+
+        Notes
+        -----
+        The friction is attributed entirely to the viscoelastic part
+        (``mu_visc_* = mu_*``, ``mu_cont_* = 0``); ``residual_hot`` is 0.
+        """
+        shape = (2, 2, 2)
+
+        def full(x: float) -> np.ndarray:
+            return np.full(shape, float(x))
+
+        variables = {
+            "mu_cold": full(mu_cold), "mu_hot": full(mu_hot),
+            "mu_visc_cold": full(mu_cold), "mu_cont_cold": full(0.0),
+            "mu_visc_hot": full(mu_hot), "mu_cont_hot": full(0.0),
+            "area_cold": full(area), "area_hot": full(area),
+            "dT_flash": full(dT_flash), "residual_hot": full(0.0),
+        }
+        return cls.from_arrays(
+            v_range, T_range, p_range, variables,
+            s0_m=0.2 * D_m if s0_m is None else s0_m, D_m=D_m,
+            meta={"kind": "constant", "mu_cold": float(mu_cold), "mu_hot": float(mu_hot)})
+
+    # -- properties ---------------------------------------------------------------------------
+    @property
+    def log10_v(self) -> np.ndarray:
+        """Slip-speed axis, log10(v / (m/s))."""
+        return self.axes["log10_v"]
+
+    @property
+    def T(self) -> np.ndarray:
+        """Background-temperature axis [K]."""
+        return self.axes["T"]
+
+    @property
+    def log10_p(self) -> np.ndarray:
+        """Nominal-pressure axis, log10(p / Pa)."""
+        return self.axes["log10_p"]
+
+    @property
+    def log_p(self) -> np.ndarray:
+        """Alias of :attr:`log10_p` (the pressure axis is stored in base 10)."""
+        return self.axes["log10_p"]
+
+    @property
+    def v(self) -> np.ndarray:
+        """Slip-speed nodes [m/s]."""
+        return 10.0 ** self.axes["log10_v"]
+
+    @property
+    def p(self) -> np.ndarray:
+        """Pressure nodes [Pa]."""
+        return 10.0 ** self.axes["log10_p"]
+
+    @property
+    def shape(self) -> tuple[int, int, int]:
+        """``(nv, nT, np)``."""
+        return tuple(self.axes[n].size for n in AXES)  # type: ignore[return-value]
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Variables present in this grid."""
+        return tuple(self.variables)
+
+    @property
+    def s0_m(self) -> float:
+        """Blending slip length s0 of eq. (28) [m]."""
+        return self.meta["s0_m"]
+
+    @property
+    def D_m(self) -> float:
+        """Macroasperity contact diameter D [m]."""
+        return self.meta["D_m"]
+
+    @property
+    def hash(self) -> str:
+        """Content hash, ``"sha256:..."`` (see :func:`content_hash`)."""
+        return self.meta["hash"]
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """The node values of variable ``name``, shape ``(nv, nT, np)`` (read-only)."""
+        try:
+            return self.variables[name]
+        except KeyError:
+            raise GridError(f"{self.source}: no variable '{name}' "
+                            f"(present: {', '.join(self.variables)})") from None
+
+    def __repr__(self) -> str:
+        v0, v1 = 10 ** self.log10_v[[0, -1]]
+        p0, p1 = 10 ** self.log10_p[[0, -1]]
+        return (f"FrictionGrid(shape={self.shape}, v={v0:.3g}..{v1:.3g} m/s, "
+                f"T={self.T[0]:.2f}..{self.T[-1]:.2f} K, p={p0:.3g}..{p1:.3g} Pa, "
+                f"hash={self.hash[:19]}...)")
+
+    # -- out-of-range bookkeeping -------------------------------------------------------------
+    def reset_out_of_range_count(self) -> None:
+        """Set the clamp counters to zero."""
+        self._below = np.zeros(3, dtype=np.int64)
+        self._above = np.zeros(3, dtype=np.int64)
+
+    @property
+    def out_of_range_count(self) -> dict[str, int]:
+        """Number of clamped query coordinates per axis (both sides) since the last reset."""
+        return {n: int(self._below[i] + self._above[i]) for i, n in enumerate(AXES)}
+
+    @property
+    def out_of_range_detail(self) -> dict[str, dict[str, int]]:
+        """Clamped query coordinates per axis and side, ``{axis: {"below": n, "above": n}}``."""
+        return {n: {"below": int(self._below[i]), "above": int(self._above[i])}
+                for i, n in enumerate(AXES)}
+
+    # -- interpolation ------------------------------------------------------------------------
+    def _setup_interpolation(self) -> None:
+        """Precompute what the interpolation needs (spacings, strides, cell coefficients)."""
+        ax = [self.axes[n] for n in AXES]
+        n = np.array([a.size for a in ax])
+        self._lo = np.array([a[0] for a in ax])[:, None]
+        self._hi = np.array([a[-1] for a in ax])[:, None]
+        # axes with equal spacing map to fractional indices by arithmetic, others by np.interp
+        self._nonuniform = [k for k, a in enumerate(ax) if not _is_uniform(a)]
+        self._inv_dx = ((n - 1) / (self._hi[:, 0] - self._lo[:, 0]))[:, None]
+        self._nmax = (n - 1).astype(float)[:, None]
+        self._index_axes = [np.arange(k, dtype=float) for k in n]
+        vfloor = float(10.0 ** ax[0][0])
+        while np.log10(vfloor) < ax[0][0]:  # rounding must not push v_min below the axis
+            vfloor = math.nextafter(vfloor, math.inf)
+        self._vfloor = vfloor
+        # one interpolation cell per node: cell (i, j, k) spans nodes i..i+1, j..j+1, k..k+1;
+        # the cells of the last node of an axis reach into an edge-padded layer and are only
+        # used with fraction 0 there (a query exactly on the last node)
+        self._strides = np.array([n[1] * n[2], n[2], 1], dtype=np.intp)
+        self._coef_cache: dict[tuple[str, ...], np.ndarray] = {}
+
+    def _coefficients(self, names: tuple[str, ...]) -> np.ndarray:
+        """Monomial coefficients of the trilinear interpolant of every cell.
+
+        Returns an array ``Q`` of shape ``(8 * len(names), n_cells)``, read as
+        ``(8, len(names), n_cells)``, such that inside a cell,
+        with fractional coordinates ``(fx, fy, fz)`` along (log10 v, T, log10 p),
+
+        ``value = (Q0 + fz Q4) + fy (Q2 + fz Q6) + fx [(Q1 + fz Q5) + fy (Q3 + fz Q7)]``,
+
+        i.e. ``Q[0:4] = (c000, c100, c010, c110)`` and ``Q[4:8] = (c001, c101, c011, c111)``
+        in ``sum c_abc fx^a fy^b fz^c``. Evaluating this nested form takes six array
+        operations, fewer than forming the eight corner weights; the cell index is the last
+        axis so that the gathered coefficients and the results are contiguous rows.
+        """
+        table = self._coef_cache.get(names)
+        if table is None:
+            for nm in names:
+                if nm not in self.variables:
+                    raise GridError(f"{self.source}: no variable '{nm}' "
+                                    f"(present: {', '.join(self.variables)})")
+            nv, nT, np_ = self.shape
+            stacked = np.stack([self.variables[nm] for nm in names], axis=-1)
+            V = np.pad(stacked, ((0, 1), (0, 1), (0, 1), (0, 0)), mode="edge")
+
+            def corner(a: int, b: int, c: int) -> np.ndarray:
+                return V[a:a + nv, b:b + nT, c:c + np_, :]
+
+            v000, v100, v010, v001 = corner(0, 0, 0), corner(1, 0, 0), corner(0, 1, 0), \
+                corner(0, 0, 1)
+            v110, v101, v011, v111 = corner(1, 1, 0), corner(1, 0, 1), corner(0, 1, 1), \
+                corner(1, 1, 1)
+            coef = (
+                v000,
+                v100 - v000,
+                v010 - v000,
+                v110 - v100 - v010 + v000,
+                v001 - v000,
+                v101 - v100 - v001 + v000,
+                v011 - v010 - v001 + v000,
+                v111 - v110 - v101 - v011 + v100 + v010 + v001 - v000,
+            )
+            table = np.empty((8, len(names), nv * nT * np_))
+            for k, ck in enumerate(coef):
+                table[k] = ck.reshape(-1, len(names)).T
+            table = table.reshape(8 * len(names), -1)
+            table.flags.writeable = False
+            self._coef_cache[names] = table
+        return table
+
+    def _out_of_range(self, x: np.ndarray, t: np.ndarray) -> None:
+        """Refuse NaN coordinates, count and clamp out-of-range ones (in place on ``t``)."""
+        nan = np.isnan(x)
+        if nan.any():
+            k = int(np.flatnonzero(nan.any(axis=1))[0])
+            raise GridError(f"{self.source}: query coordinate '{AXES[k]}' is NaN "
+                            f"(v, T and p must be numbers)")
+        below = t < 0.0
+        above = t > self._nmax
+        self._below += below.sum(axis=1)
+        self._above += above.sum(axis=1)
+        np.maximum(t, 0.0, out=t)
+        np.minimum(t, self._nmax, out=t)
+
+    def interpolate(
+        self,
+        v: Any,
+        T: Any,
+        p: Any,
+        names: Sequence[str] = DEFAULT_NAMES,
+    ) -> dict[str, np.ndarray]:
+        """Multilinear interpolation in (log10 |v|, T, log10 p).
+
+        Parameters
+        ----------
+        v
+            Slip speed(s) [m/s]; the sign is ignored (``|v|``), speeds below the first node
+            are read at the first node.
+        T
+            Background temperature(s) [K].
+        p
+            Nominal pressure(s) [Pa], > 0.
+        names
+            Variables to return.
+
+        Returns
+        -------
+        dict
+            Name -> array of the broadcast shape of ``v``, ``T`` and ``p``.
+
+        Raises
+        ------
+        GridError
+            NaN in a query coordinate, or an unknown variable name.
+
+        Notes
+        -----
+        Out-of-range coordinates are clamped to the axis ends and counted (module docstring).
+        The query is mapped to a fractional node index per axis (index arithmetic on
+        equally spaced axes, ``np.interp`` on the node positions otherwise); the cell's
+        monomial coefficients (:meth:`_coefficients`) are gathered in one indexing operation
+        and the trilinear polynomial is evaluated in nested form.
+        """
+        names = names if type(names) is tuple else tuple(names)
+        Q = self._coef_cache.get(names)
+        if Q is None:
+            Q = self._coefficients(names)
+        v = np.asarray(v, dtype=float)
+        T = np.asarray(T, dtype=float)
+        p = np.asarray(p, dtype=float)
+        shape = v.shape
+        if not (shape == T.shape == p.shape):
+            shape = np.broadcast_shapes(v.shape, T.shape, p.shape)
+        x = np.empty((3, *shape))
+        np.maximum(np.abs(v), self._vfloor, out=x[0, ...])
+        x[1] = T
+        x[2] = p
+        np.log10(x[0::2], out=x[0::2])  # both log axes in one call
+        if len(shape) != 1:
+            x = x.reshape(3, -1)
+        t = x - self._lo
+        t *= self._inv_dx
+        for k in self._nonuniform:
+            t[k] = np.interp(x[k], self.axes[AXES[k]], self._index_axes[k], left=-1.0,
+                             right=np.inf)
+        # 0 <= t <= nmax on every axis iff min(t, nmax - t) >= 0 (False for NaN as well)
+        if t.size == 0:
+            return {nm: np.empty(shape) for nm in names}
+        if not np.minimum(t, self._nmax - t).min() >= 0.0:
+            self._out_of_range(x, t)
+        i = t.astype(np.intp)
+        f = t - i
+        c = Q.take(self._strides @ i, axis=1).reshape(8, len(names), -1)  # (8, n_names, N)
+        a = c[4:8]
+        a *= f[2]  # c is a fresh copy from the gather: safe to update in place
+        a += c[0:4]
+        b = a[2:4] * f[1]
+        b += a[0:2]
+        out = b[1] * f[0]
+        out += b[0]
+        if len(shape) == 1:
+            return dict(zip(names, out, strict=True))
+        return {nm: out[j].reshape(shape) for j, nm in enumerate(names)}
+
+    def interpolate_one(self, name: str, v: Any, T: Any, p: Any) -> np.ndarray:
+        """Interpolate a single variable; shorthand for ``interpolate(v, T, p, (name,))[name]``."""
+        return self.interpolate(v, T, p, (name,))[name]
+
+    # -- numpy-only persistence ---------------------------------------------------------------
+    def save_npz(self, path: str | Path) -> Path:
+        """Write the grid as a numpy ``.npz`` archive (what an FMU carries).
+
+        The (deflate-compressed) archive holds the axes as float64 arrays, the variables as
+        float32 where that is lossless (see :func:`storage_array`) and float64 otherwise, the
+        units, and the metadata as a JSON string; :meth:`load_npz` validates all of it,
+        including the hash (computed on the float64 values, so it does not depend on the
+        storage type).
+        """
+        path = Path(path)
+        units = {**AXIS_UNITS, **{n: VARIABLE_UNITS[n] for n in self.variables}}
+        header = {"format": NPZ_FORMAT, "format_version": FORMAT_VERSION, "units": units,
+                  "variables": list(self.variables), "meta": self.meta}
+        arrays = {f"axis_{n}": self.axes[n] for n in AXES}
+        arrays.update({f"var_{n}": storage_array(a) for n, a in self.variables.items()})
+        header_arr = np.frombuffer(json.dumps(header, default=_json_default).encode(),
+                                   dtype=np.uint8)
+        with open(path, "wb") as fh:
+            np.savez_compressed(fh, header_json=header_arr, **arrays)
+        return path
+
+    @classmethod
+    def load_npz(cls, path: str | Path) -> FrictionGrid:
+        """Read and validate a grid written by :meth:`save_npz`.
+
+        Raises
+        ------
+        GridError
+            Not a grid archive, truncated or corrupt, a missing array, missing units, or
+            content that does not match the stored hash.
+        """
+        path = Path(path)
+        src = str(path)
+        if not path.is_file():
+            raise GridError(f"{src}: no such grid file")
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                files = set(z.files)
+                if "header_json" not in files:
+                    raise GridError(f"{src}: not a tirefric grid archive (no header)")
+                header = json.loads(z["header_json"].tobytes().decode())
+                fmt = header.get("format") if isinstance(header, dict) else None
+                if fmt != NPZ_FORMAT:
+                    raise GridError(f"{src}: not a tirefric grid archive (format {fmt!r})")
+                if header.get("format_version") != FORMAT_VERSION:
+                    raise GridError(f"{src}: unsupported grid format version "
+                                    f"{header.get('format_version')!r} (this reader: "
+                                    f"{FORMAT_VERSION})")
+                units = header.get("units", {})
+                axes = {}
+                for n in AXES:
+                    if f"axis_{n}" not in files:
+                        raise GridError(f"{src}: axis '{n}' is missing")
+                    axes[n] = z[f"axis_{n}"]
+                    if units.get(n) != AXIS_UNITS[n]:
+                        raise GridError(f"{src}: axis '{n}' has units {units.get(n)!r}, "
+                                        f"expected {AXIS_UNITS[n]!r}")
+                variables = {}
+                for n in header.get("variables", []):
+                    if f"var_{n}" not in files:
+                        raise GridError(f"{src}: variable '{n}' is missing")
+                    if n in VARIABLE_UNITS and units.get(n) != VARIABLE_UNITS[n]:
+                        raise GridError(f"{src}: variable '{n}' has units {units.get(n)!r}, "
+                                        f"expected {VARIABLE_UNITS[n]!r}")
+                    variables[n] = z[f"var_{n}"]
+                meta = header.get("meta", {})
+        except GridError:
+            raise
+        except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile,
+                UnicodeDecodeError, zlib.error) as exc:
+            raise GridError(f"{src}: corrupt or truncated grid archive "
+                            f"({type(exc).__name__}: {exc})") from None
+        if "hash" not in meta:
+            raise GridError(f"{src}: metadata 'hash' is missing")
+        return cls(axes["log10_v"], axes["T"], axes["log10_p"], variables, meta, source=src)
+
+
+def storage_array(a: np.ndarray) -> np.ndarray:
+    """``a`` as float32 if that loses nothing (values already rounded to float32), else as is.
+
+    Grid builds round their results to float32 precision (relative 6e-8, far below the
+    interpolation error), which halves the file size; reading converts back to float64 exactly.
+    """
+    a32 = a.astype(np.float32)
+    return a32 if np.array_equal(a32.astype(np.float64), a) else a
+
+
+def round_to_float32(a: np.ndarray) -> np.ndarray:
+    """``a`` rounded to the nearest float32 values, returned as float64."""
+    return np.asarray(a, dtype=np.float64).astype(np.float32).astype(np.float64)
+
+
+def _json_default(obj: Any) -> Any:
+    """JSON encoder for numpy scalars and arrays in metadata."""
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"metadata value of type {type(obj).__name__} is not JSON-able")
