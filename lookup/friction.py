@@ -33,7 +33,8 @@ d(dT)/dt = F(dT) - dT reached from the cold state (dT = 0), i.e. the flash tempe
 contact heating up from cold would settle to; unstable branches of an S-shaped response are
 not reported. Points that Aitken's rule has not converged after ``aitken_iter`` iterations
 (near the fold of an S-shaped response the factor can oscillate between regimes) restart from
-the cold state with a fixed relaxation, which converges there. The final max-norm residual |F(dT) - dT| [K] is reported with every hot result.
+the cold state with a fixed relaxation, which converges there. The final max-norm residual
+|F(dT) - dT| [K] is reported with every hot result.
 """
 
 from __future__ import annotations
