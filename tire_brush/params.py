@@ -1,0 +1,400 @@
+"""Tire parameters of the brush model: frozen dataclasses, validated on construction.
+
+A tire is read from a TOML file under ``models/tires/`` (:func:`load_tire`, shipped name
+``"passenger"``); every field carries its SI unit in its doc. The groups follow the physics:
+
+* :class:`PatchLaw` -- contact-patch half-length ``a`` and width ``b`` from the load, the
+  MF-Tyre 6.1 relations (Pacejka 2012, *Tire and Vehicle Dynamics*, 3rd ed., eqs. (A3.7) and
+  (A3.8)) with the vertical deflection ``rho = Fz / C_z``;
+* :class:`TreadParams` -- brush elements: shear stiffness, tip mass and damping per unit area,
+  and the void (groove) fraction of the footprint;
+* :class:`CarcassParams` -- translational compliance of the belt against the rim (what makes
+  forces build up over a relaxation length);
+* :class:`ThermalParams` -- the optional lumped tread temperature.
+
+This module imports only the standard library (and the stdlib-only :mod:`lookup.errors`) at
+module level: it runs inside an FMU. :func:`load_tire` imports the TOML reader on call.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+from lookup.errors import InputError, InputErrors
+
+
+def _check(obj: object, name: str, *, positive: bool = False, nonnegative: bool = False,
+           below: float | None = None, problems: list[InputError]) -> None:
+    """Append an :class:`InputError` to ``problems`` if field ``name`` of ``obj`` is bad."""
+    x = getattr(obj, name)
+    where = f"{type(obj).__name__}.{name}"
+    if isinstance(x, bool) or not isinstance(x, int | float) or not math.isfinite(x):
+        problems.append(InputError("must be a finite number", field=where, value=x))
+        return
+    if positive and not x > 0:
+        problems.append(InputError("must be > 0", field=where, value=x))
+    if nonnegative and not x >= 0:
+        problems.append(InputError("must be >= 0", field=where, value=x))
+    if below is not None and not x < below:
+        problems.append(InputError(f"must be < {below:g}", field=where, value=x))
+
+
+def _raise(problems: list[InputError]) -> None:
+    if len(problems) == 1:
+        raise problems[0]
+    if problems:
+        raise InputErrors(problems)
+
+
+@dataclass(frozen=True)
+class PatchLaw:
+    """Contact-patch size from the vertical load (Pacejka 2012, eqs. (A3.7)-(A3.8)).
+
+    With the vertical deflection ``rho = min(Fz, Fz_max) / C_z``:
+
+    * half-length ``a = R0 (q_ra2 rho/R0 + q_ra1 sqrt(rho/R0))``  (A3.7),
+    * width ``b = 2 W (q_rb2 rho/R0 + q_rb1 (rho/R0)^(1/3))``  (twice the half-width of A3.8).
+
+    Above ``Fz_max`` the patch keeps its size at ``Fz_max`` and only the pressure grows.
+
+    Attributes
+    ----------
+    R0 : float
+        Unloaded radius [m].
+    width : float
+        Nominal section width W [m].
+    C_z : float
+        Vertical stiffness [N/m].
+    q_ra1, q_ra2 : float
+        Square-root and linear coefficients of the length law [1].
+    q_rb1, q_rb2 : float
+        Cube-root and linear coefficients of the width law [1].
+    Fz_max : float
+        Load up to which the law is used [N]; the law must give a growing patch up to it.
+    """
+
+    R0: float
+    width: float
+    C_z: float
+    q_ra1: float
+    q_ra2: float
+    q_rb1: float
+    q_rb2: float
+    Fz_max: float
+
+    def __post_init__(self) -> None:
+        problems: list[InputError] = []
+        for f in ("R0", "width", "C_z", "q_ra1", "q_rb1", "Fz_max"):
+            _check(self, f, positive=True, problems=problems)
+        for f in ("q_ra2", "q_rb2"):
+            _check(self, f, problems=problems)
+        _raise(problems)
+        # the laws must give a positive patch that grows with the load up to Fz_max
+        prev_a = prev_b = 0.0
+        for i in range(1, 65):
+            a, b = self.size(self.Fz_max * i / 64)
+            if not (a > prev_a and b > prev_b):
+                raise InputError(
+                    f"the contact-patch law must give a length and width growing with the load "
+                    f"up to Fz_max (at Fz = {self.Fz_max * i / 64:g} N: a = {a:g} m, "
+                    f"b = {b:g} m); lower Fz_max or check q_ra*/q_rb*",
+                    field="PatchLaw.Fz_max", value=self.Fz_max)
+            prev_a, prev_b = a, b
+
+    def size(self, Fz: float) -> tuple[float, float]:
+        """Half-length ``a`` [m] and width ``b`` [m] at load ``Fz`` [N] (0 for Fz <= 0)."""
+        if not Fz > 0:
+            return 0.0, 0.0
+        r = min(Fz, self.Fz_max) / (self.C_z * self.R0)
+        a = self.R0 * (self.q_ra2 * r + self.q_ra1 * math.sqrt(r))
+        b = 2.0 * self.width * (self.q_rb2 * r + self.q_rb1 * r ** (1.0 / 3.0))
+        return a, b
+
+
+@dataclass(frozen=True)
+class TreadParams:
+    """Brush (tread) elements, per unit area of the gross footprint.
+
+    Each element is a tip of mass ``mass`` on a Kelvin-Voigt shear spring (``k_x``, ``k_y``;
+    ``d_x``, ``d_y``) to the belt. ``k`` times the patch width is Pacejka's ``c_p`` (stiffness
+    per unit length), so the slip stiffnesses of the rigid-carcass brush are
+    ``C_Fkappa = 2 k_x b a^2`` and ``C_Falpha = 2 k_y b a^2`` (Pacejka 2012, sec. 3.2).
+
+    Attributes
+    ----------
+    k_x, k_y : float
+        Longitudinal and lateral shear stiffness per unit area [N/m^3].
+    mass : float
+        Tip mass per unit area [kg/m^2] (0 = massless brush of Pacejka ch. 3).
+    d_x, d_y : float
+        Viscous damping per unit area [N s/m^3].
+    void_ratio : float
+        Groove (void) fraction of the footprint [1]; the friction tables are read at the
+        pressure on the rubber, ``p / (1 - void_ratio)``.
+    """
+
+    k_x: float
+    k_y: float
+    mass: float
+    d_x: float
+    d_y: float
+    void_ratio: float
+
+    def __post_init__(self) -> None:
+        problems: list[InputError] = []
+        for f in ("k_x", "k_y"):
+            _check(self, f, positive=True, problems=problems)
+        for f in ("mass", "d_x", "d_y"):
+            _check(self, f, nonnegative=True, problems=problems)
+        _check(self, "void_ratio", nonnegative=True, below=0.95, problems=problems)
+        _raise(problems)
+
+    @property
+    def isotropic(self) -> bool:
+        """Whether stiffness and damping are equal in x and y."""
+        return self.k_x == self.k_y and self.d_x == self.d_y
+
+
+@dataclass(frozen=True)
+class CarcassParams:
+    """Translational compliance of the belt (massless) against the rim.
+
+    The belt carries the tread; it is held by springs ``k_x``, ``k_y`` and dampers ``d_x``,
+    ``d_y``. In steady state the belt is at rest relative to the rim and does not change the
+    forces; in transients it adds ``C_F / k`` to the relaxation length (Pacejka 2012,
+    sec. 7.2). ``rigid = true`` removes it.
+
+    Attributes
+    ----------
+    rigid : bool
+        Rigid carcass (no belt deflection).
+    k_x, k_y : float
+        Longitudinal and lateral stiffness [N/m].
+    d_x, d_y : float
+        Longitudinal and lateral damping [N s/m].
+    """
+
+    rigid: bool
+    k_x: float
+    k_y: float
+    d_x: float
+    d_y: float
+
+    def __post_init__(self) -> None:
+        problems: list[InputError] = []
+        for f in ("k_x", "k_y"):
+            _check(self, f, positive=True, problems=problems)
+        for f in ("d_x", "d_y"):
+            _check(self, f, nonnegative=True, problems=problems)
+        _raise(problems)
+
+
+@dataclass(frozen=True)
+class ThermalParams:
+    """Lumped tread temperature (optional state of the transient model).
+
+    ``C dT/dt = eta P_fric - G (T - T_surface)``: heated by the fraction ``eta`` of the
+    frictional power in the footprint, cooled towards the background temperature.
+
+    Attributes
+    ----------
+    enabled : bool
+        Whether the transient model carries the state (else T0 = T_surface).
+    heat_capacity : float
+        Heat capacity C of the tread rubber [J/K].
+    conductance : float
+        Heat conductance G to the surroundings [W/K].
+    heat_fraction : float
+        Fraction eta of the frictional heat that enters the tread [1].
+    """
+
+    enabled: bool
+    heat_capacity: float
+    conductance: float
+    heat_fraction: float
+
+    def __post_init__(self) -> None:
+        problems: list[InputError] = []
+        _check(self, "heat_capacity", positive=True, problems=problems)
+        _check(self, "conductance", nonnegative=True, problems=problems)
+        _check(self, "heat_fraction", nonnegative=True, problems=problems)
+        if isinstance(self.heat_fraction, int | float) and self.heat_fraction > 1:
+            problems.append(InputError("must be <= 1", field="ThermalParams.heat_fraction",
+                                       value=self.heat_fraction))
+        _raise(problems)
+
+
+@dataclass(frozen=True)
+class TireParams:
+    """All parameters of one tire.
+
+    Attributes
+    ----------
+    name : str
+        Short name (the shipped file's stem).
+    R_e : float
+        Effective rolling radius [m]: the rolling speed is ``omega R_e``.
+    Fz_nom : float
+        Nominal load [N]; the transient model spaces its elements on the patch at this load.
+    patch : PatchLaw
+        Contact-patch size from the load.
+    tread : TreadParams
+        Brush elements.
+    carcass : CarcassParams
+        Belt compliance.
+    thermal : ThermalParams
+        Lumped tread temperature.
+    description, provenance : str
+        What the tire is and where its numbers come from.
+    source : str
+        The file it was read from ("" if built in code).
+    """
+
+    name: str
+    R_e: float
+    Fz_nom: float
+    patch: PatchLaw
+    tread: TreadParams
+    carcass: CarcassParams
+    thermal: ThermalParams
+    description: str = ""
+    provenance: str = ""
+    source: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        problems: list[InputError] = []
+        _check(self, "R_e", positive=True, problems=problems)
+        _check(self, "Fz_nom", positive=True, problems=problems)
+        _raise(problems)
+        if self.Fz_nom > self.patch.Fz_max:
+            raise InputError(f"nominal load above the patch law's Fz_max = "
+                             f"{self.patch.Fz_max:g} N", field="TireParams.Fz_nom",
+                             value=self.Fz_nom)
+
+    def slip_stiffness(self, Fz: float) -> tuple[float, float]:
+        """Rigid-carcass brush slip stiffnesses ``(C_Fkappa [N], C_Falpha [N/rad])`` at ``Fz``:
+        ``C_F = 2 c_p a^2`` with ``c_p = k b`` (Pacejka 2012, ch. 3; physics-notes)."""
+        a, b = self.patch.size(Fz)
+        return 2.0 * self.tread.k_x * b * a * a, 2.0 * self.tread.k_y * b * a * a
+
+    def describe(self) -> dict:
+        """Parameters as a JSON-able dict (for provenance of results and FMU metadata)."""
+        out: dict = {"name": self.name, "R_e_m": self.R_e, "Fz_nom_N": self.Fz_nom,
+                     "source": self.source}
+        for group in ("patch", "tread", "carcass", "thermal"):
+            g = getattr(self, group)
+            out[group] = {f.name: getattr(g, f.name) for f in fields(g)}
+        return out
+
+
+# -- TOML -------------------------------------------------------------------------------------
+#: Units this module accepts for dimensions that lookup.config does not know.
+_EXTRA_UNITS: dict[str, dict[str, float]] = {
+    "mass_per_area": {"kg/m^2": 1.0, "": 1.0},
+    "damping_per_area": {"N s/m^3": 1.0, "Pa s/m": 1.0, "": 1.0},
+    "damping": {"N s/m": 1.0, "kN s/m": 1e3, "": 1.0},
+    "heat_capacity_total": {"J/K": 1.0, "kJ/K": 1e3, "": 1.0},
+    "conductance": {"W/K": 1.0, "": 1.0},
+}
+
+
+def _quantity(t, key: str, dimension: str, **bounds) -> float:
+    """Read ``key`` of table ``t`` in SI, also for the dimensions of :data:`_EXTRA_UNITS`."""
+    from lookup.config import check_number
+
+    if dimension not in _EXTRA_UNITS:
+        return t.quantity(key, dimension, **bounds)
+    value = t.raw(key)
+    if isinstance(value, bool):
+        raise t.error(key, "expected a number", value)
+    if isinstance(value, int | float):
+        x = float(value)
+    elif isinstance(value, str):
+        parts = value.strip().split(None, 1)
+        try:
+            number = float(parts[0])
+        except (ValueError, IndexError):
+            raise t.error(key, "expected a number or '<number> <unit>'", value) from None
+        unit = parts[1].strip() if len(parts) > 1 else ""
+        units = _EXTRA_UNITS[dimension]
+        if unit not in units:
+            known = ", ".join(u for u in units if u)
+            raise t.error(key, f"unknown unit '{unit}' for a {dimension.replace('_', ' ')} "
+                               f"(known: {known})", value)
+        x = number * units[unit]
+    else:
+        raise t.error(key, "expected a number or '<number> <unit>'", value)
+    check_number(x, lambda msg: t.error(key, msg, value), **bounds)
+    return x
+
+
+def load_tire(name_or_path: str | Path) -> TireParams:
+    """Read tire parameters from a TOML file or a shipped name (``"passenger"``).
+
+    Errors name the file, the field and the value (:class:`~lookup.errors.InputError`);
+    unknown (misspelt) keys are refused.
+    """
+    from lookup.config import Table
+    from lookup.paths import resolve_model_file
+
+    path = resolve_model_file(name_or_path, "tires")
+    t = Table.load(path)
+    name = t.string("name")
+    description = t.string("description", "")
+    provenance = t.string("provenance", "")
+    R_e = t.quantity("R_e", "length", positive=True)
+    Fz_nom = t.quantity("Fz_nom", "force", positive=True)
+
+    g = t.table("patch")
+    patch = _build(g, PatchLaw, R0=g.quantity("R0", "length", positive=True),
+                   width=g.quantity("width", "length", positive=True),
+                   C_z=g.quantity("C_z", "stiffness", positive=True),
+                   q_ra1=g.quantity("q_ra1", "dimensionless", positive=True),
+                   q_ra2=g.quantity("q_ra2", "dimensionless"),
+                   q_rb1=g.quantity("q_rb1", "dimensionless", positive=True),
+                   q_rb2=g.quantity("q_rb2", "dimensionless"),
+                   Fz_max=g.quantity("Fz_max", "force", positive=True))
+    r = t.table("tread")
+    tread = _build(r, TreadParams, k_x=r.quantity("k_x", "stiffness_per_area", positive=True),
+                   k_y=r.quantity("k_y", "stiffness_per_area", positive=True),
+                   mass=_quantity(r, "mass", "mass_per_area", nonnegative=True),
+                   d_x=_quantity(r, "d_x", "damping_per_area", nonnegative=True),
+                   d_y=_quantity(r, "d_y", "damping_per_area", nonnegative=True),
+                   void_ratio=r.quantity("void_ratio", "dimensionless", nonnegative=True,
+                                         maximum=0.9))
+    c = t.table("carcass")
+    carcass = _build(c, CarcassParams, rigid=c.boolean("rigid", False),
+                     k_x=c.quantity("k_x", "stiffness", positive=True),
+                     k_y=c.quantity("k_y", "stiffness", positive=True),
+                     d_x=_quantity(c, "d_x", "damping", nonnegative=True),
+                     d_y=_quantity(c, "d_y", "damping", nonnegative=True))
+    h = t.table("thermal")
+    thermal = _build(h, ThermalParams, enabled=h.boolean("enabled"),
+                     heat_capacity=_quantity(h, "heat_capacity", "heat_capacity_total",
+                                             positive=True),
+                     conductance=_quantity(h, "conductance", "conductance", nonnegative=True),
+                     heat_fraction=h.quantity("heat_fraction", "dimensionless",
+                                              nonnegative=True, maximum=1.0))
+    for tab in (g, r, c, h):
+        tab.check_unknown()
+    t.check_unknown()
+    try:
+        return TireParams(name=name, R_e=R_e, Fz_nom=Fz_nom, patch=patch, tread=tread,
+                          carcass=carcass, thermal=thermal, description=description,
+                          provenance=provenance, source=str(path))
+    except InputError as exc:
+        raise InputError(exc.message, source=path, field=exc.field, value=exc.value) from None
+
+
+def _build(table, cls, **kwargs):
+    """Construct ``cls(**kwargs)``, re-raising validation errors with the file named."""
+    try:
+        return cls(**kwargs)
+    except InputErrors as exc:
+        raise InputErrors([InputError(e.message, source=table.source, field=e.field,
+                                      value=e.value) for e in exc.errors]) from None
+    except InputError as exc:
+        raise InputError(exc.message, source=table.source, field=exc.field,
+                         value=exc.value) from None
