@@ -1,0 +1,126 @@
+"""Benchmark of the braking studies: force-map build time and OCP solve time.
+
+Targets (issue 6): OCP solve <= 5 s for 200 collocation intervals. Run:
+
+    python benchmarks/bench_braking.py [--repeat 5] [--json]
+
+Reports medians over the repeats: the B-spline force-map build (tabulation of an analytic
+source + scipy coefficient fit + CasADi function) at three sizes, the OCP (IPOPT wall time and
+NLP set-up) at 200 intervals for two road curves, and one rule-based-ABS simulation.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+import time
+
+import numpy as np
+
+from tire_brush.braking import (
+    ABSParams,
+    ForceMap,
+    OCPSettings,
+    QuarterCar,
+    RuleBasedABS,
+    default_axes,
+    simulate_braking,
+    solve_braking_ocp,
+)
+from tire_brush.braking.reference import burckhardt_road, magic_formula_road
+
+V0, V_STOP, T_AMB = 100 / 3.6, 1.0, 293.15
+CAR = QuarterCar(mass=450.0, wheel_inertia=1.2, radius=0.31, brake_torque_max=3000.0,
+                 brake_torque_rate_max=2e4)
+
+
+def median_time(fn, repeat: int) -> tuple[float, object]:
+    times, out = [], None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), out
+
+
+def bench_maps(repeat: int) -> list[dict]:
+    curve = burckhardt_road("asphalt_dry", c4=0.02)
+
+    def source(k, v, f, t):           # depends on every axis, like a brush map would
+        return curve(k, v) * (1.0 + 1e-5 * (f - 4000.0)) * (1.0 - 1e-3 * (t - 293.0))
+
+    rows = []
+    for label, n_k, n_v, n_f, n_t in (("61x9 (one load, one T)", 61, 9, 1, 1),
+                                       ("61x9x3x5", 61, 9, 3, 5),
+                                       ("101x17x5x9 (~7.7e4 nodes)", 101, 17, 5, 9)):
+        ax = default_axes(V0, V_STOP, CAR.Fz, T_AMB, n_kappa=n_k, n_v=n_v)
+        ax["Fz"] = CAR.Fz * np.linspace(0.5, 1.5, n_f) if n_f > 1 else ax["Fz"]
+        ax["T_K"] = T_AMB + np.linspace(-20, 60, n_t) if n_t > 1 else ax["T_K"]
+
+        def build(ax=ax):
+            fm = ForceMap.build(source, **ax)
+            fm.casadi_function()
+            return fm
+
+        build()  # warm-up (imports)
+        t, fm = median_time(build, repeat)
+        rows.append({"map": label, "nodes": fm.n_nodes, "build_s_median": t})
+    return rows
+
+
+def bench_ocp(repeat: int) -> list[dict]:
+    rows = []
+    for curve in (burckhardt_road("asphalt_dry"), magic_formula_road("asphalt_wet")):
+        fm = ForceMap.build(curve, **default_axes(V0, V_STOP, CAR.Fz, T_AMB))
+        solves, setups, iters, dist = [], [], [], []
+        for _ in range(repeat):
+            r = solve_braking_ocp(CAR, fm, V0, V_STOP, T_AMB, settings=OCPSettings(intervals=200))
+            solves.append(r.solve_time_s)
+            setups.append(r.setup_time_s)
+            iters.append(r.iterations)
+            dist.append(r.stopping_distance)
+        rows.append({"curve": f"{type(curve).__name__} {curve.name}", "intervals": 200,
+                     "solve_s_median": statistics.median(solves),
+                     "setup_s_median": statistics.median(setups),
+                     "iterations": int(statistics.median(iters)),
+                     "stopping_distance_m": dist[-1]})
+    return rows
+
+
+def bench_abs(repeat: int) -> dict:
+    fm = ForceMap.build(burckhardt_road("asphalt_dry"), **default_axes(V0, V_STOP, CAR.Fz, T_AMB))
+    ctrl = RuleBasedABS(ABSParams(), CAR.radius, CAR.brake_torque_rate_max)
+    t, r = median_time(lambda: simulate_braking(CAR, fm, ctrl, V0, V_STOP, T_AMB), repeat)
+    return {"abs_simulation_s_median": t, "steps": round(r.stop_time / r.dt),
+            "dt_s": r.dt}
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--repeat", type=int, default=5)
+    p.add_argument("--json", action="store_true")
+    args = p.parse_args(argv)
+    out = {"maps": bench_maps(args.repeat), "ocp": bench_ocp(args.repeat),
+           "abs": bench_abs(max(1, args.repeat // 2))}
+    if args.json:
+        json.dump(out, sys.stdout, indent=2)
+        print()
+        return 0
+    print("force map build (tabulate + scipy tensor B-spline + CasADi function), median:")
+    for r in out["maps"]:
+        print(f"  {r['map']:28s} {r['nodes']:7d} nodes  {1e3 * r['build_s_median']:8.1f} ms")
+    print("OCP, 200 intervals, Legendre degree 3, IPOPT (target <= 5 s), median:")
+    for r in out["ocp"]:
+        print(f"  {r['curve']:32s} solve {r['solve_s_median']:.2f} s  set-up "
+              f"{r['setup_s_median']:.2f} s  {r['iterations']} iterations  "
+              f"d = {r['stopping_distance_m']:.2f} m")
+    a = out["abs"]
+    print(f"rule-based ABS simulation: {a['abs_simulation_s_median']:.2f} s for {a['steps']} "
+          f"steps of {1e3 * a['dt_s']:.2f} ms")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,108 @@
+"""Force map: tensor B-spline coefficients, CasADi's BSpline against scipy, validation."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lookup.errors import InputError
+from tire_brush.braking.force_map import ForceMap, default_axes, tensor_bspline_coefficients
+from tire_brush.braking.reference import burckhardt_road
+
+casadi = pytest.importorskip("casadi")
+
+
+def smooth(kappa, vx, Fz, T_K):
+    """A smooth source depending on every input (no symmetry that could hide an axis swap)."""
+    return (np.sin(3.0 * kappa + 0.2) * (1.0 + 0.1 * np.log(vx)) * (1.0 + Fz / 2e4)
+            + 1e-3 * (T_K - 300.0) * kappa)
+
+
+# deliberately different lengths per axis, so a C/Fortran-order mix-up cannot go unseen
+AXES = {"kappa": np.linspace(-1.0, 0.05, 23), "vx": np.geomspace(0.5, 40.0, 7),
+        "Fz": np.array([2000.0, 3500.0, 5000.0, 6500.0]), "T_K": np.array([270.0, 300.0, 340.0,
+                                                                              360.0, 400.0])}
+
+
+@pytest.fixture(scope="module")
+def fmap():
+    return ForceMap.build(smooth, **AXES)
+
+
+def random_points(n: int, seed: int = 1) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return np.column_stack([rng.uniform(a[0], a[-1], n) for a in AXES.values()])
+
+
+def test_interpolates_nodes(fmap):
+    G = np.meshgrid(*AXES.values(), indexing="ij")
+    # 1e-11: the interpolation conditions are solved exactly up to round-off
+    np.testing.assert_allclose(fmap(*G), smooth(*G), atol=1e-11,
+                               err_msg="spline vs source at the nodes")
+
+
+def test_casadi_bspline_matches_scipy(fmap):
+    """CasADi's BSpline (Fortran-ordered coefficients) against scipy's NdBSpline."""
+    P = random_points(300)
+    f = fmap.casadi_function()
+    ca_vals = np.array(f.map(P.shape[0])(*P.T)).ravel()
+    # 1e-12: the same tensor spline evaluated by two libraries, round-off only
+    np.testing.assert_allclose(ca_vals, fmap(*P.T), rtol=0, atol=1e-12,
+                               err_msg="casadi Function.bspline vs scipy NdBSpline")
+    # and the bare bspline in spline coordinates (log10 speed)
+    bs = fmap.casadi_bspline()
+    X = P.copy()
+    X[:, 1] = np.log10(X[:, 1])
+    np.testing.assert_allclose(np.array(bs.map(X.shape[0])(X.T)).ravel(), fmap(*P.T),
+                               atol=1e-12, err_msg="bare casadi bspline in (kappa, log10 v, ..)")
+
+
+def test_cubic_reproduced_exactly():
+    """A tensor cubic polynomial lies in the spline space: reproduced everywhere."""
+    axes = [np.linspace(0, 1, 6), np.linspace(-1, 2, 5), np.linspace(3, 4, 4)]
+
+    def poly(x, y, z):
+        return (1 + x - 2 * x**3) * (y**2 - y**3 / 3) * (z**3 + 1)
+
+    knots, c = tensor_bspline_coefficients(axes, poly(*np.meshgrid(*axes, indexing="ij")),
+                                           [3, 3, 3])
+    from scipy.interpolate import NdBSpline
+
+    P = np.random.default_rng(2).uniform([0, -1, 3], [1, 2, 4], size=(200, 3))
+    np.testing.assert_allclose(NdBSpline(tuple(knots), c, 3)(P), poly(*P.T), atol=1e-10,
+                               err_msg="cubic polynomial reproduction")
+
+
+def test_gradient_matches_finite_difference(fmap):
+    f = fmap.casadi_function()
+    k = casadi.MX.sym("k")
+    df = casadi.Function("df", [k], [casadi.jacobian(f(k, 10.0, 4000.0, 300.0), k)])
+    for kk in (-0.7, -0.2, -0.05):
+        h = 1e-6
+        fd = (fmap(kk + h, 10.0, 4000.0, 300.0) - fmap(kk - h, 10.0, 4000.0, 300.0)) / (2 * h)
+        # 1e-6: central-difference truncation and round-off
+        assert abs(float(df(kk)) - float(fd)) < 1e-6, "casadi derivative vs finite difference"
+
+
+def test_clamped_outside_and_constant_axes():
+    fm = ForceMap.build(burckhardt_road("asphalt_dry"), **default_axes(30.0, 1.0, 4000.0, 293.0))
+    assert fm.active == ("kappa", "vx"), "single-node load and temperature axes are constants"
+    f = fm.casadi_function()
+    assert float(f(-0.1, 10.0, 1.0, 1.0)) == pytest.approx(float(fm(-0.1, 10.0, 4000.0, 293.0)),
+                                                          abs=1e-12), "constant axes ignored"
+    assert float(f(-3.0, 10.0, 4000.0, 293.0)) == pytest.approx(
+        float(fm(-1.0, 10.0, 4000.0, 293.0)), abs=1e-12), "slip clamped to the axis"
+    k = np.linspace(-1, 0, 2001)
+    err = np.abs(fm(k, 10.0, 4000.0, 293.0) - burckhardt_road("asphalt_dry")(k)).max()
+    # 1e-5: default slip axis (61 graded nodes) against the analytic curve
+    assert err < 1e-5, f"default axes reproduce the Burckhardt curve (max error {err:.2g})"
+
+
+def test_validation_names_the_axis():
+    with pytest.raises(InputError, match="axis 'vx' must be strictly ascending"):
+        ForceMap.build(smooth, kappa=[-1, 0], vx=[1.0, 3.0, 2.0], Fz=[4000.0], T_K=[300.0])
+    with pytest.raises(InputError, match="non-finite"), np.errstate(all="ignore"):
+        ForceMap.build(lambda k, v, f, t: np.log(k), kappa=[-1, 0, 0.1], vx=[1.0], Fz=[1.0],
+                       T_K=[300.0])
+    with pytest.raises(InputError, match="> 0"):
+        ForceMap.build(smooth, kappa=[-1, 0], vx=[0.0, 1.0], Fz=[4000.0], T_K=[300.0])

@@ -1,0 +1,51 @@
+"""Optimal slip maps against brute-force argmax; CSV export readable by lookup.config."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lookup.config import read_csv_table
+from tire_brush.braking import ForceMap, default_axes, optimal_slip
+from tire_brush.braking.reference import burckhardt_road, magic_formula_road
+
+K = -np.linspace(0.0, 1.0, 100_001)   # brute-force grid, step 1e-5
+
+
+def load_temperature_curve(kappa, vx, Fz, T_K):
+    """Peak slip and height moving with speed (c4), load and temperature (a made-up law)."""
+    c = burckhardt_road("asphalt_dry", c4=0.03)
+    s = 1.0 + 0.2 * (Fz - 4000.0) / 4000.0 + 0.3 * (T_K - 300.0) / 100.0
+    return c(kappa * s, vx) * (1.0 - 0.1 * (T_K - 300.0) / 100.0)
+
+
+@pytest.mark.parametrize("source", [burckhardt_road("asphalt_wet", c4=0.03),
+                                    magic_formula_road("asphalt_dry"), load_temperature_curve],
+                         ids=["burckhardt-c4", "magic-formula", "load-temperature"])
+def test_slip_map_maximises_braking_force(source):
+    vx, Fz, T = np.array([2.0, 10.0, 30.0]), np.array([3000.0, 5000.0]), np.array([280., 330.])
+    sm = optimal_slip(source, vx, Fz, T)
+    for idx in np.ndindex(sm.kappa_opt.shape):
+        v, f, t = vx[idx[0]], Fz[idx[1]], T[idx[2]]
+        mu = source(K, v, f, t)
+        i = np.argmin(mu)
+        # 2e-5: twice the brute-force step; the map's refinement is finer
+        assert abs(sm.kappa_opt[idx] - K[i]) < 2e-5, f"slip at {v, f, t} vs brute-force argmax"
+        assert sm.mu_max[idx] >= -mu[i] - 1e-12, "the map's force is at least the brute force"
+        assert sm.mu_locked[idx] == pytest.approx(-float(source(-1.0, v, f, t)), abs=1e-14)
+
+
+def test_slip_map_on_force_map_and_csv(tmp_path):
+    curve = burckhardt_road("asphalt_dry")
+    fm = ForceMap.build(curve, **default_axes(30.0, 1.0, 4000.0, 293.0))
+    sm = optimal_slip(fm, [5.0, 20.0], [4000.0], [293.0], label="Burckhardt dry")
+    # 1e-4: the spline's peak vs the closed form (map resolution)
+    np.testing.assert_allclose(sm.kappa_opt, -curve.peak_slip(), atol=1e-4,
+                               err_msg="slip map on the force map vs closed-form peak")
+    path = sm.to_csv(tmp_path / "slip.csv")
+    cols = read_csv_table(path, {"vx": "velocity", "Fz": "force", "T": "temperature",
+                                 "kappa_opt": "dimensionless", "mu_max": "dimensionless",
+                                 "mu_locked": "dimensionless"})
+    np.testing.assert_allclose(cols["kappa_opt"], sm.kappa_opt.ravel(), rtol=1e-9,
+                               err_msg="CSV round trip")
+    assert sm.interpolate(10.0, 4000.0, 293.0) == pytest.approx(sm.kappa_opt.mean(), abs=1e-9)

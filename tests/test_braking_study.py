@@ -1,0 +1,150 @@
+"""Study spec reading, the brush friction hook and ``tirefric abs study`` end to end."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from lookup.cli import main
+from lookup.errors import InputError, InputErrors
+from lookup.paths import models_dir
+from tire_brush.braking.friction import Case, brush_fx_over_fz, make_friction_source
+from tire_brush.braking.study import RESULT_KEYS, load_study
+
+VEHICLE = models_dir() / "studies" / "vehicles" / "passenger.toml"
+
+
+def write_spec(tmp_path: Path, *, extra: str = "", roads='["snow"]', intervals: int = 40) -> Path:
+    text = f"""
+[study]
+name = "tiny"
+v0 = "50 km/h"
+v_stop = "1 m/s"
+vehicle = "{VEHICLE.as_posix()}"
+
+[friction]
+source = "analytic"
+model = "burckhardt"
+
+[cases]
+roads = {roads}
+temperatures = ["20 degC"]
+
+[ocp]
+intervals = {intervals}
+
+[simulation]
+dt = "1 ms"
+{extra}
+"""
+    p = tmp_path / "tiny.toml"
+    p.write_text(text)
+    return p
+
+
+def test_shipped_spec_loads():
+    spec = load_study("abs_analytic")
+    assert [c.road for c in spec.cases] == ["asphalt_dry", "asphalt_wet", "snow"]
+    assert spec.v0 == pytest.approx(100 / 3.6) and spec.car.thermal is not None
+
+
+def test_spec_errors_name_file_field_value(tmp_path):
+    p = write_spec(tmp_path, extra="[abs]\nslip_treshold = 0.2\n", roads="[]")
+    with pytest.raises(InputErrors) as info:
+        load_study(p)
+    text = str(info.value)
+    assert "tiny.toml" in text and "abs.slip_treshold" in text, "misspelt key named"
+    assert "cases.roads" in text, "an empty road list is reported in the same run"
+
+
+def test_analytic_source_refuses_compounds():
+    with pytest.raises(InputError, match="no compounds"):
+        make_friction_source({"source": "analytic"}, Case("asphalt_dry", "summer", 293.15))
+
+
+def test_brush_adapter_vectorised_and_pointwise():
+    """The hook for the brush tire: any steady_state(params, friction, ...) -> {'Fx': ...}."""
+
+    def steady_state(params, friction, kappa, alpha, vx, Fz, T_K):
+        # Pacejka 2012 ch. 3 brush, static/kinetic friction (physics-notes), pure kappa
+        sigma = np.abs(kappa) / (1.0 + kappa)
+        lam = np.minimum(params["theta"] * sigma, 1.0)
+        mu_s, mu_k = friction
+        F = 3 * mu_s * lam * (1 - lam) ** 2 + mu_k * lam**2 * (3 - 2 * lam)
+        return {"Fx": np.sign(kappa) * Fz * F}
+
+    vec = brush_fx_over_fz(steady_state, {"theta": 8.0}, (1.1, 0.8))
+    pt = brush_fx_over_fz(steady_state, {"theta": 8.0}, (1.1, 0.8), vectorized=False)
+    k = np.linspace(-0.9, 0.0, 7)[:, None]
+    a, b = vec(k, 20.0, np.array([3000.0, 5000.0]), 300.0), pt(k, 20.0, [3000.0, 5000.0], 300.0)
+    np.testing.assert_allclose(a, b, rtol=1e-14, err_msg="vectorised vs pointwise adapter")
+    assert a.shape == (7, 2) and a[-1, 0] == 0.0 and a[0, 0] == pytest.approx(-0.8)
+    with pytest.raises(InputError, match="loads > 0"):
+        vec(-0.1, 20.0, 0.0, 300.0)
+
+
+def test_cli_study_end_to_end(tmp_path, capsys):
+    spec = write_spec(tmp_path)
+    out = tmp_path / "out"
+    assert main(["abs", "study", str(spec), "-o", str(out), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    case = doc["cases"][0]
+    for key in ("stopping_distance_ocp", "stopping_distance_abs", "stopping_distance_locked",
+                "optimal_slip"):
+        assert isinstance(case[key], float), f"JSON key {key}"
+    assert case["point_mass_bound"] <= case["stopping_distance_ocp"] * 1.001
+    assert case["stopping_distance_ocp"] < case["stopping_distance_abs"] \
+        < case["stopping_distance_locked"], "OCP < ABS < locked on the snow curve"
+    with open(out / "results.csv") as fh:
+        rows = list(csv.reader(line for line in fh if not line.startswith("#")))
+    assert tuple(rows[0]) == RESULT_KEYS and len(rows) == 2
+    assert float(rows[1][RESULT_KEYS.index("stopping_distance_ocp")]) == pytest.approx(
+        case["stopping_distance_ocp"], rel=1e-7), "CSV and JSON agree"
+    for name in ("snow_20C_time.png", "snow_20C_mu_slip.png", "distances.png"):
+        assert (out / "plots" / name).stat().st_size > 1000, f"plot {name}"
+    assert (out / "slip_maps" / "snow_20C.csv").is_file()
+    assert (out / "trajectories" / "snow_20C.csv").is_file()
+
+
+def test_cli_bad_spec_exits_2(tmp_path, capsys):
+    p = write_spec(tmp_path, extra="[map]\nloads_rel = [0.5, 0.8]\n")
+    assert main(["abs", "study", str(p), "-o", str(tmp_path / "o")]) == 2
+    assert "must contain 1" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_study_on_dask_cluster(tmp_path):
+    """The same results through a Dask scheduler (in-process cluster)."""
+    from dask.distributed import LocalCluster
+
+    from tire_brush.braking.study import run_study
+
+    spec = load_study(write_spec(tmp_path, roads='["snow", "asphalt_wet"]'))
+    local = run_study(spec)
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                      dashboard_address=None) as cluster:
+        remote = run_study(spec, scheduler=cluster.scheduler_address)
+    for a, b in zip(local, remote, strict=True):
+        assert a.summary["stopping_distance_abs"] == b.summary["stopping_distance_abs"]
+        assert a.summary["stopping_distance_ocp"] == pytest.approx(
+            b.summary["stopping_distance_ocp"], rel=1e-9)
+
+
+@pytest.mark.slow
+def test_shipped_brush_study_runs(tmp_path):
+    """``abs_default``: the brush tire on the default grid, end to end (issue 6)."""
+    pytest.importorskip("tire_brush.steady")
+    if not (models_dir() / "grids" / "default.nc").is_file():
+        pytest.skip("default grid not built")
+    out = tmp_path / "out"
+    assert main(["abs", "study", "abs_default", "-o", str(out), "--no-plots"]) == 0
+    doc = json.loads((out / "results.json").read_text())
+    assert len(doc["cases"]) == 3
+    for c in doc["cases"]:
+        assert c["stopping_distance_ocp"] < c["stopping_distance_abs"], c["case"]
+        assert c["stopping_distance_ocp"] < c["stopping_distance_locked"], c["case"]
+        assert -1.0 < c["optimal_slip"] < 0.0, c["case"]

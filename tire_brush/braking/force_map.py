@@ -1,0 +1,270 @@
+"""Steady-state force map ``Fx/Fz(kappa, vx, Fz, T)`` as a smooth, differentiable CasADi function.
+
+Any friction source with the signature ``fx_over_fz(kappa, vx, Fz, T_K) -> ndarray`` (numpy
+broadcasting; the brush tire's steady state, or a curve of :mod:`.reference`) is tabulated on
+a tensor grid and interpolated by a tensor-product B-spline:
+
+* per axis, scipy's ``make_interp_spline`` (not-a-knot end conditions, degree 3 unless the axis
+  is too short) gives the knot vector and the collocation solve; applying it along each axis
+  in turn gives the tensor coefficient array ``c[i, j, k, l]`` such that
+  ``sum c B_i(kappa) B_j(log10 vx) B_k(Fz) B_l(T) = Fx/Fz`` at every node (de Boor,
+  *A Practical Guide to Splines*, 2001, ch. XVII, tensor-product interpolation);
+* the knots and the coefficients (flattened in Fortran order, the first axis fastest, as
+  CasADi's ``BSpline`` node expects) go to ``casadi.Function.bspline``. This is exact and
+  fast; ``casadi.interpolant(..., 'bspline')`` fits its own coefficients and becomes slow and
+  memory-hungry beyond ~1e4 nodes (measured, issue 6).
+
+The speed axis is stored and interpolated as ``log10(vx)`` (``shared/style.md``). An axis with
+a single node is a constant: the map does not depend on that input.
+
+Out of range: every input is clamped to its axis range (CasADi and numpy evaluation alike), so
+the map extends as a constant beyond its edges and its derivative there is zero. Studies keep
+their operating points inside the axes (the OCP bounds ``kappa`` to the map's range).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from lookup.errors import InputError
+
+#: A friction source: ``fx_over_fz(kappa, vx, Fz, T_K) -> Fx/Fz`` with numpy broadcasting.
+FxOverFz = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+
+#: Input names in call order, and the units of the axes (speed axis stored as log10).
+INPUTS = ("kappa", "vx", "Fz", "T_K")
+UNITS = {"kappa": "1", "vx": "m/s", "Fz": "N", "T_K": "K"}
+
+
+def _validate_axis(name: str, values, *, positive: bool = False) -> np.ndarray:
+    a = np.asarray(values, dtype=float).ravel()
+    if a.size == 0:
+        raise InputError("axis is empty", field=name)
+    bad = ~np.isfinite(a)
+    if bad.any():
+        raise InputError(f"entry {int(np.flatnonzero(bad)[0])} is not finite", field=name,
+                         value=a.tolist())
+    if positive and (a <= 0).any():
+        raise InputError("entries must be > 0", field=name, value=a.tolist())
+    if a.size > 1 and not (np.diff(a) > 0).all():
+        i = int(np.flatnonzero(np.diff(a) <= 0)[0]) + 1
+        raise InputError(f"the points in axis '{name}' must be strictly ascending "
+                         f"(entry {i} = {a[i]!r} follows {a[i - 1]!r})", field=name)
+    return a
+
+
+def tensor_bspline_coefficients(
+    axes: list[np.ndarray], values: np.ndarray, degrees: list[int]
+) -> tuple[list[np.ndarray], np.ndarray]:
+    """Knots and coefficients of the tensor-product B-spline interpolating ``values``.
+
+    Parameters
+    ----------
+    axes
+        Strictly ascending node coordinates per dimension, each of length >= 2.
+    values
+        Node values, shape ``tuple(len(a) for a in axes)`` (``indexing='ij'``).
+    degrees
+        Spline degree per dimension, ``1 <= k < len(axis)``.
+
+    Returns
+    -------
+    knots, coefficients
+        One knot vector per dimension and the coefficient array (same shape as ``values``,
+        C order). Flatten with ``order='F'`` for CasADi.
+
+    Notes
+    -----
+    Interpolation along one axis is a linear solve with that axis' collocation matrix, and the
+    tensor-product system is the Kronecker product of those, so solving axis by axis gives the
+    exact tensor coefficients (de Boor 2001, ch. XVII).
+    """
+    from scipy.interpolate import make_interp_spline
+
+    coeffs = np.asarray(values, dtype=float)
+    knots = []
+    for i, (x, k) in enumerate(zip(axes, degrees, strict=True)):
+        spl = make_interp_spline(x, coeffs, k=k, axis=i)
+        # scipy returns the coefficients with the interpolation axis first
+        coeffs = np.moveaxis(spl.c, 0, i)
+        knots.append(np.asarray(spl.t, dtype=float))
+    return knots, np.ascontiguousarray(coeffs)
+
+
+@dataclass(frozen=True)
+class ForceMap:
+    """Tabulated ``Fx/Fz`` on (kappa, log10 vx, Fz, T) with its tensor B-spline.
+
+    Build with :meth:`build`. Calling the map evaluates the spline with numpy/scipy
+    (broadcasting, same signature as the source); :meth:`casadi_function` gives the CasADi
+    function.
+
+    Attributes
+    ----------
+    axes : dict
+        Node coordinates per input: ``kappa`` [1], ``vx`` [m/s], ``Fz`` [N], ``T_K`` [K].
+    values : numpy.ndarray
+        Tabulated ``Fx/Fz`` [1], shape of the axes (``indexing='ij'``).
+    degree : int
+        Requested spline degree (an axis with n nodes uses ``min(degree, n - 1)``).
+    build_time_s : float
+        Wall time of the tabulation and the fit [s].
+    label : str
+        Provenance of the source (e.g. the friction curve or tire/grid names).
+    """
+
+    axes: dict[str, np.ndarray]
+    values: np.ndarray
+    degree: int
+    knots: tuple[np.ndarray, ...] = field(repr=False)
+    coefficients: np.ndarray = field(repr=False)
+    active: tuple[str, ...] = ()
+    build_time_s: float = 0.0
+    label: str = ""
+
+    @classmethod
+    def build(cls, fx_over_fz: FxOverFz, *, kappa, vx, Fz, T_K, degree: int = 3,
+              label: str = "") -> ForceMap:
+        """Tabulate ``fx_over_fz`` on the tensor grid of the axes and fit the B-spline.
+
+        Parameters
+        ----------
+        fx_over_fz
+            Friction source, ``fx_over_fz(kappa, vx, Fz, T_K) -> Fx/Fz`` broadcasting.
+        kappa, vx, Fz, T_K
+            Strictly ascending axes: slip [1] (at least 2 nodes), speed [m/s] (> 0; stored as
+            log10), load [N], temperature [K]. An axis with one node is a constant.
+        degree
+            Spline degree, 1 to 5 (3: cubic, C2-smooth, what the NLP solver wants).
+        label
+            Provenance text carried along.
+        """
+        t0 = time.perf_counter()
+        if not 1 <= degree <= 5:
+            raise InputError("spline degree must be 1 to 5", field="degree", value=degree)
+        axes = {
+            "kappa": _validate_axis("kappa", kappa),
+            "vx": _validate_axis("vx", vx, positive=True),
+            "Fz": _validate_axis("Fz", Fz),
+            "T_K": _validate_axis("T_K", T_K, positive=True),
+        }
+        if axes["kappa"].size < 2:
+            raise InputError("the slip axis needs at least 2 nodes", field="kappa",
+                             value=axes["kappa"].tolist())
+        grids = np.meshgrid(*axes.values(), indexing="ij")
+        shape = grids[0].shape
+        values = np.asarray(fx_over_fz(*grids), dtype=float)
+        if values.shape != shape:
+            raise InputError(f"friction source returned shape {values.shape}, expected "
+                             f"{shape} (it must broadcast like numpy)", field="fx_over_fz")
+        bad = ~np.isfinite(values)
+        if bad.any():
+            idx = np.unravel_index(int(np.flatnonzero(bad)[0]), shape)
+            point = {n: float(a[i]) for (n, a), i in zip(axes.items(), idx, strict=True)}
+            raise InputError(f"friction source gave {int(bad.sum())} non-finite value(s), "
+                             f"first at {point}", field="fx_over_fz")
+        active = tuple(n for n, a in axes.items() if a.size > 1)
+        active_idx = [INPUTS.index(n) for n in active]
+        squeezed = values.reshape([shape[i] for i in active_idx])
+        coords = [cls._coord(n, axes[n]) for n in active]
+        degrees = [min(degree, axes[n].size - 1) for n in active]
+        knots, coeffs = tensor_bspline_coefficients(coords, squeezed, degrees)
+        return cls(axes=axes, values=values, degree=degree, knots=tuple(knots),
+                   coefficients=coeffs, active=active,
+                   build_time_s=time.perf_counter() - t0, label=label)
+
+    # -- coordinates ----------------------------------------------------------------------------
+    @staticmethod
+    def _coord(name: str, x):
+        """Spline coordinate of input ``name``: log10 for the speed, identity otherwise."""
+        return np.log10(x) if name == "vx" else x
+
+    @property
+    def degrees(self) -> tuple[int, ...]:
+        """Spline degree per active axis."""
+        return tuple(min(self.degree, self.axes[n].size - 1) for n in self.active)
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of tabulated points."""
+        return int(self.values.size)
+
+    def bounds(self, name: str) -> tuple[float, float]:
+        """Range ``(lo, hi)`` of an input's axis in its SI unit."""
+        a = self.axes[name]
+        return float(a[0]), float(a[-1])
+
+    # -- numpy evaluation -----------------------------------------------------------------------
+    def __call__(self, kappa, vx, Fz, T_K) -> np.ndarray:
+        """``Fx/Fz`` [1] from the spline (inputs clamped to the axes), numpy broadcasting."""
+        args = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (kappa, vx, Fz, T_K)))
+        pts = []
+        for name in self.active:
+            lo, hi = self.bounds(name)
+            x = np.clip(args[INPUTS.index(name)], lo, hi)
+            pts.append(self._coord(name, x))
+        shape = args[0].shape
+        xi = np.stack([p.ravel() for p in pts], axis=-1)
+        return self._ndbspline()(xi).reshape(shape)
+
+    def _ndbspline(self):
+        cache = self.__dict__.get("_nd_cache")
+        if cache is None:
+            from scipy.interpolate import NdBSpline
+
+            cache = NdBSpline(self.knots, self.coefficients, self.degrees, extrapolate=False)
+            object.__setattr__(self, "_nd_cache", cache)
+        return cache
+
+    # -- CasADi ---------------------------------------------------------------------------------
+    def casadi_bspline(self):
+        """The bare ``casadi.Function.bspline`` over the active spline coordinates.
+
+        Input: one column vector of the active coordinates (``log10 vx`` for the speed),
+        output ``Fx/Fz``. No clamping (used by the tests against scipy).
+        """
+        import casadi as ca
+
+        return ca.Function.bspline(
+            "fx_over_fz_bspline", [k.tolist() for k in self.knots],
+            self.coefficients.ravel(order="F").tolist(), list(self.degrees), 1, {})
+
+    def casadi_function(self, name: str = "fx_over_fz"):
+        """CasADi function ``(kappa, vx, Fz, T_K) -> Fx/Fz`` (scalars), inputs clamped to the axes.
+
+        Smooth (C^(degree-1)) inside the axes, with first and second derivatives for the NLP
+        solver. Evaluate it on many points at once with ``.map(n)``.
+        """
+        import casadi as ca
+
+        bs = self.casadi_bspline()
+        syms = [ca.MX.sym(n) for n in INPUTS]
+        coords = []
+        for n in self.active:
+            lo, hi = self.bounds(n)
+            x = ca.fmin(ca.fmax(syms[INPUTS.index(n)], lo), hi)
+            coords.append(ca.log10(x) if n == "vx" else x)
+        return ca.Function(name, syms, [bs(ca.vertcat(*coords))], list(INPUTS), ["fx_over_fz"])
+
+
+def default_axes(v0: float, v_stop: float, Fz: float, T_K: float, *,
+                 n_kappa: int = 61, n_v: int = 9) -> dict[str, np.ndarray]:
+    """Axes for a braking study at one load and temperature.
+
+    Slip from -1 (lock) to 0 (free rolling) with nodes graded towards small slip, where the
+    curves bend (``kappa = -u^2``, u uniform on [0, 1]), mirrored to ``kappa <= 0.05`` so that
+    free rolling is an interior point of the map (the clamp at an axis end has no slope);
+    speed log-spaced from ``v_stop / 2`` to ``1.2 v0`` [m/s]; load ``Fz`` [N] and
+    temperature ``T_K`` [K] single nodes (constants).
+    """
+    u = np.linspace(0.0, 1.0, n_kappa)
+    neg = -(u[::-1] ** 2)
+    neg[-1] = 0.0
+    pos = -neg[(neg < 0.0) & (neg >= -0.05)][::-1]
+    kappa = np.concatenate([neg, pos])
+    v = np.geomspace(0.5 * v_stop, 1.2 * v0, n_v)
+    return {"kappa": kappa, "vx": v, "Fz": np.array([Fz]), "T_K": np.array([T_K])}

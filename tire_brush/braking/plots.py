@@ -1,0 +1,100 @@
+"""Plots of a braking study (matplotlib's object API: no pyplot state, no backend switch)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+from matplotlib.figure import Figure
+
+if TYPE_CHECKING:
+    from .study import CaseResult
+
+STYLE = {"ocp": ("OCP (optimal)", "C0"), "abs": ("rule-based ABS", "C1"),
+         "locked": ("locked wheel", "C3")}
+
+
+def _runs(r: CaseResult):
+    return (("ocp", r.ocp), ("abs", r.abs_sim), ("locked", r.locked))
+
+
+def plot_time_histories(r: CaseResult, path: str | Path) -> Path:
+    """Speed, slip, mu and brake torque vs time for the three strategies of one case."""
+    fig = Figure(figsize=(8, 9), layout="constrained")
+    ax = fig.subplots(4, 1, sharex=True)
+    R = r.summary["radius_m"]
+    for name, res in _runs(r):
+        lab, col = STYLE[name]
+        ax[0].plot(res.t, res.v, color=col, label=f"{lab}: v")
+        ax[0].plot(res.t, res.omega * R, color=col, ls=":", lw=0.8)
+        ax[1].plot(res.t, -res.kappa, color=col, lw=1.0 if name != "ocp" else 1.8, label=lab)
+        ax[2].plot(res.t, -res.mu, color=col, lw=1.0 if name != "ocp" else 1.8, label=lab)
+        ax[3].plot(res.t, res.brake_torque, color=col, lw=1.0 if name != "ocp" else 1.8,
+                   label=lab)
+    ax[1].axhline(-r.summary["optimal_slip"], color="k", ls="--", lw=0.8,
+                  label="slip of max force at v0")
+    ax[0].set_ylabel("v, omega R (dotted) [m/s]")
+    ax[1].set_ylabel("braking slip -kappa [1]")
+    ax[2].set_ylabel("braking friction -Fx/Fz [1]")
+    ax[3].set_ylabel("brake torque [N m]")
+    ax[3].set_xlabel("time t [s]")
+    ax[1].set_ylim(0, 1.05)
+    ax[0].legend(fontsize=8)
+    ax[1].legend(fontsize=8)
+    s = r.summary
+    fig.suptitle(f"{s['case']}: stopping distance OCP {s['stopping_distance_ocp']:.2f} m, "
+                 f"ABS {s['stopping_distance_abs']:.2f} m, locked "
+                 f"{s['stopping_distance_locked']:.2f} m", fontsize=10)
+    fig.savefig(path, dpi=110)
+    return Path(path)
+
+
+def plot_mu_slip(r: CaseResult, path: str | Path) -> Path:
+    """Braking friction vs slip from the force map with the strategies' operating points."""
+    fmap, s = r.force_map, r.summary
+    Fz, T = s["Fz_N"], r.case.T_K
+    k = -np.linspace(0.0, 1.0, 401)
+    fig = Figure(figsize=(7, 5), layout="constrained")
+    ax = fig.subplots()
+    v0 = float(r.ocp.v[0])
+    for v, ls in ((v0, "-"), (0.5 * v0, "--"), (max(float(r.ocp.v[-1]), 0.1 * v0), ":")):
+        ax.plot(-k, -fmap(k, v, Fz, T), color="0.3", ls=ls, lw=1.2,
+                label=f"force map, v = {v:.3g} m/s")
+    # locked first, OCP last: the optimal operating points stay visible on top
+    for name, res in reversed(_runs(r)):
+        lab, col = STYLE[name]
+        ms = {"ocp": 7, "abs": 4, "locked": 9}[name]
+        ax.plot(-res.kappa, -res.mu, "o", ms=ms, mfc="none" if name != "ocp" else col,
+                mec=col, alpha=0.6 if name == "abs" else 0.9, label=f"{lab} operating points")
+    ax.axvline(-s["optimal_slip"], color="k", ls="--", lw=0.8,
+               label=f"slip of max force at v0: {-s['optimal_slip']:.3f}")
+    ax.set_xlabel("braking slip -kappa [1]")
+    ax.set_ylabel("braking friction -Fx/Fz [1]")
+    ax.set_xlim(0, 1)
+    ax.set_ylim(bottom=0)
+    ax.set_title(f"{s['case']}: mu-slip curve and operating points", fontsize=10)
+    ax.legend(fontsize=8, loc="lower right")
+    fig.savefig(path, dpi=110)
+    return Path(path)
+
+
+def plot_distances(results: list[CaseResult], path: str | Path) -> Path:
+    """Stopping distances by case: OCP, ABS, locked wheel and the point-mass bound."""
+    labels = [r.case.label for r in results]
+    x = np.arange(len(results))
+    fig = Figure(figsize=(max(6, 1.6 * len(results) + 2), 4.5), layout="constrained")
+    ax = fig.subplots()
+    w = 0.26
+    for i, (name, key) in enumerate((("ocp", "stopping_distance_ocp"),
+                                     ("abs", "stopping_distance_abs"),
+                                     ("locked", "stopping_distance_locked"))):
+        lab, col = STYLE[name]
+        ax.bar(x + (i - 1) * w, [r.summary[key] for r in results], w, color=col, label=lab)
+    ax.scatter(x - w, [r.summary["point_mass_bound"] for r in results], marker="_", s=400,
+               color="k", zorder=3, label="point-mass bound")
+    ax.set_xticks(x, labels, rotation=20, ha="right", fontsize=8)
+    ax.set_ylabel("stopping distance to v_stop [m]")
+    ax.legend(fontsize=8)
+    fig.savefig(path, dpi=110)
+    return Path(path)

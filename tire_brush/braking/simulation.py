@@ -1,0 +1,221 @@
+"""Fixed-step simulation of a quarter-car stop under a brake controller.
+
+Integrator: the two-stage Rosenbrock method ROS2 (Verwer, Spee, Blom & Hundsdorfer, SIAM J.
+Sci. Comput. 20 (1999) 1456-1480, eq. (2.3), gamma = 1 + 1/sqrt(2)): second order for any
+approximation of the Jacobian (a W-method) and L-stable, so the step is set by accuracy, not by
+the stiff wheel mode. That mode has the eigenvalue
+``-R^2 Fz (d mu / d kappa) / (J v)``, about -1e4 1/s at 1 m/s for a passenger tire: an
+explicit Runge-Kutta step would have to stay below ~0.2 ms near the end of a stop. The
+Jacobian used is the exact one of the (v, omega) block with ``d mu / d kappa`` from a forward
+difference, ``dx'/dv = 1`` and the thermal cooling term; the remaining couplings are left out
+(allowed by the W-method property).
+
+Per step the brake torque rate is the controller's command, held over the controller period
+(which is an integer number of steps); the torque is clamped to ``[0, T_b,max]`` after each
+step. A wheel whose spin would turn negative is locked: ``omega`` is clamped to 0, which is
+the brake acting as a static friction torque (it holds the wheel while the tire torque is
+below the brake torque). The stop ends when ``v`` reaches ``v_stop``; distance and time are
+interpolated linearly in ``v`` within the last step.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from lookup.errors import ConvergenceError, InputError
+
+from .abs_control import BrakeController
+from .force_map import FxOverFz
+from .quarter_car import QuarterCar
+
+GAMMA_ROS2 = 1.0 + 1.0 / math.sqrt(2.0)
+
+
+@dataclass(frozen=True)
+class SimSettings:
+    """Fixed-step integration settings.
+
+    Attributes
+    ----------
+    dt : float
+        Integration step [s]; rounded down so that the controller period is a whole number of
+        steps.
+    t_max : float
+        Give up after this time [s] (a stop that takes longer is an input error: too little
+        brake torque).
+    record_every : int
+        Keep every n-th step in the trajectory.
+    """
+
+    dt: float = 5e-4
+    t_max: float = 60.0
+    record_every: int = 1
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.dt) and 0 < self.dt <= 0.01):
+            raise InputError("must be in (0, 0.01] s", field="simulation.dt", value=self.dt)
+        if not (math.isfinite(self.t_max) and self.t_max > 0):
+            raise InputError("must be > 0 s", field="simulation.t_max", value=self.t_max)
+        if self.record_every < 1:
+            raise InputError("must be >= 1", field="simulation.record_every",
+                             value=self.record_every)
+
+
+@dataclass(frozen=True)
+class SimResult:
+    """Trajectory of a simulated stop (recorded steps; the last point is at ``v_stop``).
+
+    Attributes
+    ----------
+    t, x, v, omega, brake_torque, kappa, mu, T_tread : numpy.ndarray
+        Time [s], distance [m], speed [m/s], wheel spin [rad/s], brake torque [N m], slip [1],
+        force ratio Fx/Fz [1], tread temperature [K].
+    phase : numpy.ndarray
+        Controller phase code per point (:data:`.abs_control.PHASES`).
+    stopping_distance : float
+        Distance from v0 to v_stop [m].
+    stop_time : float
+        Time to reach v_stop [s].
+    dt : float
+        Step used [s].
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    omega: np.ndarray
+    brake_torque: np.ndarray
+    kappa: np.ndarray
+    mu: np.ndarray
+    T_tread: np.ndarray
+    phase: np.ndarray
+    stopping_distance: float
+    stop_time: float
+    dt: float
+
+
+def simulate_braking(
+    car: QuarterCar,
+    fx_over_fz: FxOverFz,
+    controller: BrakeController,
+    v0: float,
+    v_stop: float,
+    T_ambient: float,
+    *,
+    settings: SimSettings | None = None,
+    brake_torque_initial: float = 0.0,
+) -> SimResult:
+    """Simulate a straight-line stop from ``v0`` to ``v_stop`` [m/s] under ``controller``.
+
+    Parameters
+    ----------
+    car
+        Quarter car (its ``thermal`` switches the tread-temperature state on).
+    fx_over_fz
+        Friction ``Fx/Fz(kappa, vx, Fz, T_K)`` (e.g. the study's :class:`.ForceMap`, so the
+        simulation and the OCP see identical friction).
+    controller
+        Brake controller, reset at the start.
+    v0, v_stop
+        Initial and final speed [m/s], ``v0 > v_stop > 0``.
+    T_ambient
+        Ambient and initial tread temperature [K].
+    settings
+        Step and limits.
+    brake_torque_initial
+        Brake torque at t = 0 [N m]; the wheel starts free rolling (``omega = v0 / R``).
+    """
+    settings = settings or SimSettings()
+    if not (v0 > v_stop > 0):
+        raise InputError("need v0 > v_stop > 0 m/s", field="v0, v_stop", value=(v0, v_stop))
+    Tc = controller.control_period
+    n_sub = max(1, math.ceil(Tc / settings.dt - 1e-9))
+    h = Tc / n_sub
+    R, Fz, m, J = car.radius, car.Fz, car.mass, car.wheel_inertia
+    th = car.thermal
+    Tmax = car.brake_torque_max
+    gh = GAMMA_ROS2 * h
+    d_kappa = 1e-6
+
+    def mu_of(kappa: float, v: float, T: float) -> float:
+        return float(fx_over_fz(kappa, v, Fz, T))
+
+    def f_and_jac(y: np.ndarray, u: float, need_jac: bool):
+        _, v, w, Tb, T = y
+        kappa = (w * R - v) / v
+        mu = mu_of(kappa, v, T)
+        Fx = Fz * mu
+        f = np.empty(5)
+        f[0] = v
+        f[1] = Fx / m
+        f[2] = (-R * Fx - Tb) / J
+        f[3] = u
+        f[4] = 0.0 if th is None else (
+            th.heat_fraction * Fx * (w * R - v) - th.cooling * (T - T_ambient)) / th.heat_capacity
+        if not need_jac:
+            return f, mu, None
+        mu_k = (mu_of(kappa + d_kappa, v, T) - mu) / d_kappa
+        dk_dv, dk_dw = -w * R / v**2, R / v
+        a, b = Fz / m * mu_k, -R * Fz / J * mu_k
+        return f, mu, (a * dk_dv, a * dk_dw, b * dk_dv, b * dk_dw)
+
+    def solve_w(rhs: np.ndarray, jac, cool: float) -> np.ndarray:
+        jvv, jvw, jwv, jww = jac
+        m11, m12, m21, m22 = 1.0 - gh * jvv, -gh * jvw, -gh * jwv, 1.0 - gh * jww
+        det = m11 * m22 - m12 * m21
+        k = np.empty(5)
+        k[1] = (m22 * rhs[1] - m12 * rhs[2]) / det
+        k[2] = (m11 * rhs[2] - m21 * rhs[1]) / det
+        k[0] = rhs[0] + gh * k[1]
+        k[3] = rhs[3]
+        k[4] = rhs[4] / (1.0 + gh * cool)
+        return k
+
+    cool = 0.0 if th is None else th.cooling / th.heat_capacity
+    y = np.array([0.0, v0, v0 / R, brake_torque_initial, T_ambient])
+    controller.reset()
+    t = 0.0
+    rec: list[tuple] = []
+    n_steps = 0
+    u = 0.0
+    phase = controller.phase
+    stop = None
+    while t < settings.t_max:
+        u = controller.torque_rate(t, y[1], y[2], y[3])
+        phase = controller.phase
+        for _ in range(n_sub):
+            f1, mu, jac = f_and_jac(y, u, True)
+            if n_steps % settings.record_every == 0:
+                rec.append((t, *y, (y[2] * R - y[1]) / y[1], mu, phase))
+            k1 = solve_w(f1, jac, cool)
+            f2, _, _ = f_and_jac(y + h * k1, u, False)
+            k2 = solve_w(f2 - 2.0 * k1, jac, cool)
+            y_new = y + 1.5 * h * k1 + 0.5 * h * k2
+            y_new[2] = max(y_new[2], 0.0)
+            y_new[3] = min(max(y_new[3], 0.0), Tmax)
+            n_steps += 1
+            if y_new[1] <= v_stop:
+                s = (y[1] - v_stop) / (y[1] - y_new[1])
+                stop = y + s * (y_new - y)
+                stop[1] = v_stop
+                t_stop = t + s * h
+                break
+            y = y_new
+            t += h
+        if stop is not None:
+            break
+    if stop is None:
+        raise ConvergenceError(f"the car did not reach {v_stop:g} m/s within "
+                               f"{settings.t_max:g} s (v = {y[1]:.3g} m/s): too little brake "
+                               "torque or friction")
+    kappa_stop = (stop[2] * R - v_stop) / v_stop
+    rec.append((t_stop, *stop, kappa_stop, mu_of(kappa_stop, v_stop, stop[4]), phase))
+    arr = np.array(rec, dtype=float)
+    return SimResult(
+        t=arr[:, 0], x=arr[:, 1], v=arr[:, 2], omega=arr[:, 3], brake_torque=arr[:, 4],
+        T_tread=arr[:, 5], kappa=arr[:, 6], mu=arr[:, 7], phase=arr[:, 8].astype(int),
+        stopping_distance=float(stop[0]), stop_time=float(t_stop), dt=h,
+    )
