@@ -1,0 +1,17 @@
+"""tirefric ``fmu_src``: the transient brush tire as an FMI 2.0 co-simulation FMU (pythonfmu).
+
+One concern per module (as FMPy does it):
+
+* :mod:`fmu_src.interface` -- the FMU's variables, units and dependencies as data;
+* :mod:`fmu_src.slave` -- the pythonfmu slave, a thin shell over
+  :class:`tire_brush.transient.TransientBrushTire`;
+* :mod:`fmu_src.guard` -- the input envelope (NaN, negative load, absurd speeds);
+* :mod:`fmu_src.state` -- exact byte serialization of the FMU state;
+* :mod:`fmu_src.package` -- the FMU's private copy of the modules it runs;
+* :mod:`fmu_src.model_description` -- post-processing of pythonfmu's modelDescription.xml;
+* :mod:`fmu_src.build` -- ``tire + grid -> BrushTire.fmu``; :mod:`fmu_src.cli` --
+  ``tirefric fmu build|info``.
+
+The first four run inside the FMU (numpy and the standard library only); importing this
+package imports nothing.
+"""

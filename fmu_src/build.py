@@ -1,0 +1,377 @@
+"""Build the brush-tire FMU: tire + grid -> ``BrushTire.fmu`` (FMI 2.0 co-simulation).
+
+Steps of :func:`build_fmu`:
+
+1. **Inputs.** The tire (:func:`tire_brush.params.load_tire`: a TOML file or a shipped name)
+   and the friction grid (:func:`lookup.grid.load_grid`: NetCDF or npz, or a shipped name).
+2. **Runtime.** :func:`fmu_src.package.build_runtime` collects the modules the slave needs under
+   a private package name and checks that they import only numpy and the standard library.
+3. **Resources** (:func:`stage_resources`): the grid as a numpy ``.npz`` archive (the format
+   the numpy-only reader loads; same content hash as the source grid), ``build.json`` (tire
+   parameters, model options, input envelope, grid hash and provenance, build id) and
+   ``requirements.txt`` (what the host's Python needs: numpy; ``pythonfmu deploy`` reads it).
+4. **pythonfmu** builds the FMU in a child process (it imports the slave to write the model
+   description; the child keeps those imports out of this interpreter).
+5. **Post-processing** (:mod:`fmu_src.model_description`): units, InitialUnknowns, GUID, model
+   metadata. The archive is rewritten with sorted entries and fixed timestamps, so the same
+   inputs give the same bytes (and the same GUID).
+6. **Validation** with ``fmpy.validation.validate_fmu``: any problem stops the build.
+
+The build id is the SHA-256 of everything that goes into the FMU: the copied sources, the
+grid archive, the tire parameters, options, limits, the tirefric and pythonfmu versions. The
+GUID is derived from it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+import uuid
+import xml.etree.ElementTree as ET
+import zipfile
+from dataclasses import dataclass, field
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+from typing import Any
+
+from lookup.errors import InputError, TirefricError
+from tire_brush.params import TireParams, load_tire
+from tire_brush.slip import V_FLOOR
+from tire_brush.transient import DT_INTERNAL, N_TRANSIENT
+
+from .interface import MODEL_NAME, check_tire_fields, default_limits, tire_to_dict, variables
+from .model_description import postprocess
+from .package import RuntimePackage, build_runtime
+from .slave import BUILD_FILE, DATA_DIR
+
+#: Name of the grid archive inside the FMU's data folder.
+GRID_FILE = "grid.npz"
+#: What the host's Python must provide at simulation time (pythonfmu itself is inside the FMU).
+REQUIREMENTS = ("numpy>=1.26",)
+#: Format tag of build.json.
+BUILD_FORMAT = "tirefric-fmu-build"
+#: Fixed timestamp of every archive entry (the earliest a zip can hold).
+_ZIP_TIME = (1980, 1, 1, 0, 0, 0)
+
+
+class BuildError(TirefricError):
+    """The FMU could not be built, or the built FMU failed validation."""
+
+
+@dataclass(frozen=True)
+class BuildOptions:
+    """Start values of the model options (FMU parameters; a master may change them).
+
+    Attributes
+    ----------
+    n_elements : int
+        Tread elements on the patch at the nominal load.
+    dt_internal : float
+        Longest internal step [s].
+    s0 : float or None
+        Blending length of eq. (28) [m]; None: the grid's ``s0_m``.
+    v_floor : float
+        Speed floor of the reported slips [m/s].
+    """
+
+    n_elements: int = N_TRANSIENT
+    dt_internal: float = DT_INTERNAL
+    s0: float | None = None
+    v_floor: float = V_FLOOR
+
+    def __post_init__(self) -> None:
+        if isinstance(self.n_elements, bool) or not isinstance(self.n_elements, int) or \
+                self.n_elements < 2:
+            raise InputError("must be an integer >= 2", field="n_elements",
+                             value=self.n_elements)
+        for name in ("dt_internal", "v_floor"):
+            x = getattr(self, name)
+            if not (isinstance(x, int | float) and 0 < x < float("inf")):
+                raise InputError("must be a finite number > 0", field=name, value=x)
+        if self.s0 is not None and not (0 <= self.s0 < float("inf")):
+            raise InputError("must be a finite length >= 0 m", field="s0", value=self.s0)
+
+
+@dataclass
+class BuildReport:
+    """What :func:`build_fmu` made.
+
+    Attributes
+    ----------
+    path : Path
+        The FMU file.
+    guid, build_id : str
+        GUID of the model description and the hash of the build inputs.
+    sha256 : str
+        Hash of the FMU file's bytes.
+    size_bytes : int
+        File size.
+    tire : str
+        Tire name.
+    grid_hash, grid_source : str
+        Content hash and origin of the grid.
+    runtime_package : str
+        Private package name inside the FMU.
+    n_variables : int
+        Variables in the model description.
+    deferred_imports : list of str
+        Imports inside functions that point outside the FMU's copy (not run by the slave).
+    seconds : float
+        Build time.
+    """
+
+    path: Path
+    guid: str
+    build_id: str
+    sha256: str
+    size_bytes: int
+    tire: str
+    grid_hash: str
+    grid_source: str
+    runtime_package: str
+    n_variables: int
+    deferred_imports: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-able dict (``tirefric fmu build --json``)."""
+        d = dict(self.__dict__)
+        d["path"] = str(self.path)
+        return d
+
+
+def _package_version(name: str) -> str:
+    try:
+        return version(name)
+    except PackageNotFoundError:
+        return "unknown"
+
+
+def _load_inputs(tire: str | Path | TireParams, grid: str | Path | Any) -> tuple[TireParams,
+                                                                                  Any, str]:
+    """The tire, the grid and a short name of the grid's origin."""
+    tire_p = tire if isinstance(tire, TireParams) else load_tire(tire)
+    if hasattr(grid, "save_npz") and hasattr(grid, "hash"):
+        return tire_p, grid, Path(str(grid.source)).name
+    from lookup.grid import load_grid
+
+    g = load_grid(grid)
+    return tire_p, g, Path(str(g.source)).name
+
+
+def _deterministic_zip(entries: dict[str, bytes]) -> bytes:
+    """A zip archive of ``entries`` with sorted names and fixed metadata."""
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w") as z:
+        for name in sorted(entries):
+            info = zipfile.ZipInfo(name, date_time=_ZIP_TIME)
+            info.compress_type = zipfile.ZIP_DEFLATED
+            info.external_attr = 0o644 << 16
+            info.create_system = 3
+            z.writestr(info, entries[name], compresslevel=9)
+    return buf.getvalue()
+
+
+def _grid_npz(grid: Any) -> bytes:
+    """The grid as an npz archive with deterministic bytes (the reader's own format)."""
+    with tempfile.TemporaryDirectory(prefix="tirefric_grid_") as tmp:
+        path = grid.save_npz(Path(tmp) / GRID_FILE)
+        with zipfile.ZipFile(path) as z:
+            members = {n: z.read(n) for n in z.namelist()}
+    return _deterministic_zip(members)
+
+
+def _json_bytes(obj: Any) -> bytes:
+    return (json.dumps(obj, indent=1, sort_keys=True, allow_nan=False) + "\n").encode()
+
+
+def _grid_provenance(grid: Any) -> dict[str, Any]:
+    """Scalar metadata of the grid (compound, surface, s0, D, engine version, ...)."""
+    return {k: v for k, v in sorted(grid.meta.items())
+            if isinstance(v, str | int | float) and not isinstance(v, bool)}
+
+
+def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
+                    options: BuildOptions | None = None, *, grid_source: str = "",
+                    runtime: RuntimePackage | None = None) -> dict[str, Any]:
+    """Write the FMU's data resources into ``directory`` and return the build description.
+
+    ``directory/tirefric-data/`` receives ``build.json`` and the grid archive; with
+    ``runtime`` given, its sources and ``requirements.txt`` are written as well (the full
+    resources folder). Without it, the folder is enough for :class:`fmu_src.slave.BrushTireSlave`
+    to run in a source checkout (tests).
+
+    Raises
+    ------
+    BuildError
+        The tire has parameters the FMU interface does not cover.
+    """
+    problems = check_tire_fields()
+    if problems:
+        raise BuildError("; ".join(problems))
+    options = options or BuildOptions()
+    directory = Path(directory)
+    data = directory / DATA_DIR
+    data.mkdir(parents=True, exist_ok=True)
+    npz = _grid_npz(grid)
+    (data / GRID_FILE).write_bytes(npz)
+    s0 = float(grid.meta["s0_m"]) if options.s0 is None else float(options.s0)
+    tire_d = tire_to_dict(tire)
+    tire_d["file"] = Path(tire.source).name if tire.source else ""
+    tirefric_version = _package_version("tirefric")
+    build: dict[str, Any] = {
+        "format": BUILD_FORMAT, "format_version": 1,
+        "model": {
+            "name": MODEL_NAME,
+            "description": (f"Transient brush tire '{tire.name}' on a Persson friction grid "
+                            f"({grid.hash}) with eq. (28) cold/hot blending (tirefric)"),
+            "author": "tirefric developers", "version": tirefric_version, "license": "MIT",
+            "generationTool": (f"tirefric {tirefric_version} (pythonfmu "
+                               f"{_package_version('pythonfmu')})"),
+        },
+        "versions": {"tirefric": tirefric_version, "pythonfmu": _package_version("pythonfmu"),
+                     "python_built_with": ".".join(map(str, sys.version_info[:2]))},
+        "tire": tire_d,
+        "grid": {"file": GRID_FILE, "hash": grid.hash, "source": grid_source,
+                 "npz_sha256": "sha256:" + hashlib.sha256(npz).hexdigest(),
+                 "meta": _grid_provenance(grid)},
+        "options": {"n_elements": options.n_elements, "dt_internal": options.dt_internal,
+                    "s0": s0, "v_floor": options.v_floor},
+        "limits": default_limits(tire),
+        "requirements": list(REQUIREMENTS),
+    }
+    h = hashlib.sha256(_json_bytes(build) + npz)
+    if runtime is not None:
+        build["runtime"] = {"package": runtime.package, "slave_module": runtime.slave_module,
+                            "code_hash": runtime.code_hash, "modules": runtime.modules}
+        for rel in sorted(runtime.files):
+            h.update(rel.encode() + b"\0" + runtime.files[rel].encode() + b"\0")
+            path = directory / rel
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(runtime.files[rel], encoding="utf-8")
+        (directory / "requirements.txt").write_text("\n".join(REQUIREMENTS) + "\n")
+    build["build_id"] = "sha256:" + h.hexdigest()
+    (data / BUILD_FILE).write_bytes(_json_bytes(build))
+    return build
+
+
+def guid_of(build_id: str) -> str:
+    """The FMU's GUID: a UUID (version 5 layout) from the first 16 bytes of the build id."""
+    digest = bytes.fromhex(build_id.partition(":")[2])
+    return "{" + str(uuid.UUID(bytes=digest[:16], version=5)) + "}"
+
+
+def _run_pythonfmu(stage: Path, runtime: RuntimePackage, out_dir: Path) -> Path:
+    """pythonfmu's builder in a child process; returns the raw FMU."""
+    cmd = [sys.executable, "-m", "pythonfmu", "build", "-f",
+           str(stage / f"{runtime.slave_module}.py"), "-d", str(out_dir),
+           str(stage / runtime.package), str(stage / DATA_DIR), str(stage / "requirements.txt")]
+    env = dict(os.environ, PYTHONDONTWRITEBYTECODE="1")
+    proc = subprocess.run(cmd, cwd=stage, env=env, capture_output=True, text=True,
+                          check=False)
+    raw = out_dir / f"{MODEL_NAME}.fmu"
+    if proc.returncode != 0 or not raw.is_file():
+        tail = (proc.stderr or proc.stdout).strip().splitlines()[-15:]
+        raise BuildError("pythonfmu could not build the FMU:\n" + "\n".join(tail))
+    return raw
+
+
+def build_fmu(tire: str | Path | TireParams, grid: str | Path | Any, output: str | Path,
+              options: BuildOptions | None = None, *, validate: bool = True) -> BuildReport:
+    """Build the brush-tire FMU (module docstring).
+
+    Parameters
+    ----------
+    tire
+        Tire TOML file, shipped name (``"passenger"``) or :class:`TireParams`.
+    grid
+        Grid file (``.nc``/``.npz``), shipped name (``"default"``) or a
+        :class:`lookup.grid.FrictionGrid`.
+    output
+        The ``.fmu`` file to write (replaced atomically).
+    options
+        Start values of the model options.
+    validate
+        Run fmpy's validation and refuse an FMU with problems.
+
+    Returns
+    -------
+    BuildReport
+
+    Raises
+    ------
+    InputError, GridError
+        Bad tire or grid (from their readers).
+    BuildError
+        Packaging, pythonfmu or validation failed (the message lists the problems).
+    """
+    t0 = time.perf_counter()
+    output = Path(output)
+    if output.suffix != ".fmu":
+        raise InputError("the FMU file name must end in .fmu", source="-o", value=str(output))
+    tire_p, grid_o, grid_source = _load_inputs(tire, grid)
+    runtime = build_runtime()
+    with tempfile.TemporaryDirectory(prefix="tirefric_fmu_") as tmp:
+        stage = Path(tmp) / "stage"
+        build = stage_resources(tire_p, grid_o, stage, options, grid_source=grid_source,
+                                runtime=runtime)
+        raw = _run_pythonfmu(stage, runtime, Path(tmp) / "out")
+        with zipfile.ZipFile(raw) as z:
+            entries = {n: z.read(n) for n in z.namelist()
+                       if not n.endswith("/") and "__pycache__" not in n
+                       and not n.endswith(".pyc")}
+        guid = guid_of(build["build_id"])
+        info = {"info.tire": tire_p.name, "info.grid_hash": grid_o.hash,
+                "info.build_id": build["build_id"]}
+        variables_ = variables(build["tire"], build["options"], build["limits"], info)
+        vendor = {"build_id": build["build_id"], "grid_hash": grid_o.hash,
+                  "grid_source": grid_source, "tire": tire_p.name,
+                  "tire_file": build["tire"]["file"], "runtime_package": runtime.package,
+                  "tirefric_version": build["versions"]["tirefric"]}
+        entries["modelDescription.xml"] = postprocess(
+            entries["modelDescription.xml"], variables_, guid=guid, model=build["model"],
+            vendor=vendor, step_size=1e-3)
+        data = _deterministic_zip(entries)
+        output.parent.mkdir(parents=True, exist_ok=True)
+        part = output.with_name(output.name + ".part")
+        part.write_bytes(data)
+        if validate:
+            from fmpy.validation import validate_fmu
+
+            problems = validate_fmu(str(part))
+            if problems:
+                part.unlink()
+                raise BuildError("the FMU failed validation:\n" +
+                                 "\n".join(f"  - {p}" for p in problems))
+        os.replace(part, output)
+    return BuildReport(path=output, guid=guid, build_id=build["build_id"],
+                       sha256="sha256:" + hashlib.sha256(data).hexdigest(),
+                       size_bytes=len(data), tire=tire_p.name, grid_hash=grid_o.hash,
+                       grid_source=grid_source, runtime_package=runtime.package,
+                       n_variables=len(variables_), deferred_imports=runtime.deferred_imports,
+                       seconds=time.perf_counter() - t0)
+
+
+def read_fmu_info(path: str | Path) -> dict[str, Any]:
+    """Build description and model attributes of a built FMU (``tirefric fmu info``)."""
+    path = Path(path)
+    try:
+        with zipfile.ZipFile(path) as z:
+            build = json.loads(z.read(f"resources/{DATA_DIR}/{BUILD_FILE}"))
+            md = z.read("modelDescription.xml")
+    except (OSError, KeyError, zipfile.BadZipFile, ValueError) as exc:
+        raise InputError(f"not a tirefric FMU ({exc})", source=str(path)) from None
+    root = ET.fromstring(md)
+    return {"file": str(path), "guid": root.get("guid"), "modelName": root.get("modelName"),
+            "description": root.get("description"), "version": root.get("version"),
+            "build_id": build["build_id"], "tire": build["tire"]["name"],
+            "tire_file": build["tire"].get("file", ""), "grid": build["grid"],
+            "options": build["options"], "limits": build["limits"],
+            "requirements": build["requirements"], "versions": build["versions"],
+            "runtime": build.get("runtime", {})}

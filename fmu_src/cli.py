@@ -1,0 +1,95 @@
+"""``tirefric fmu build|info``: a thin shell over :mod:`fmu_src.build`."""
+
+from __future__ import annotations
+
+import argparse
+
+from lookup.cli import dump_json, parse_float
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Register ``tirefric fmu`` and its sub-commands."""
+    f = sub.add_parser("fmu", help="the brush tire as an FMI 2.0 co-simulation FMU",
+                       description="Build and inspect the brush-tire FMU (pythonfmu; runs in "
+                                   "the host's Python with numpy).")
+    fs = f.add_subparsers(dest="fmu_command", required=True, metavar="FMU_COMMAND")
+
+    b = fs.add_parser("build", help="build BrushTire.fmu from a tire and a grid",
+                      description="Build the transient brush tire with its grid as an FMI 2.0 "
+                                  "co-simulation FMU. The FMU is validated with fmpy; the same "
+                                  "inputs give the same file (and GUID).")
+    b.add_argument("--tire", default="passenger",
+                   help="tire TOML file or shipped name (default: passenger)")
+    b.add_argument("--grid", default="default",
+                   help="grid file (.nc or .npz) or shipped grid name (default: default)")
+    b.add_argument("-o", "--output", default="BrushTire.fmu", help="FMU file to write")
+    b.add_argument("--n-elements", type=int, default=None,
+                   help="start value of n_elements (tread elements on the patch at the "
+                        "nominal load)")
+    b.add_argument("--dt-internal", default=None,
+                   help="start value of dt_internal, the longest internal step [s]")
+    b.add_argument("--s0", default=None,
+                   help="start value of s0, the blending length of eq. (28) [m] (default: "
+                        "the grid's)")
+    b.add_argument("--json", action="store_true", help="print a JSON build report")
+    b.set_defaults(func=_run_build)
+
+    i = fs.add_parser("info", help="what an FMU was built from: tire, grid hash, options")
+    i.add_argument("fmu", help="FMU file")
+    i.add_argument("--json", action="store_true", help="print JSON")
+    i.add_argument("--validate", action="store_true", help="also run fmpy's validation")
+    i.set_defaults(func=_run_info)
+
+
+def _run_build(args: argparse.Namespace) -> int:
+    from .build import BuildOptions, build_fmu
+
+    kw: dict = {}
+    if args.n_elements is not None:
+        kw["n_elements"] = args.n_elements
+    if args.dt_internal is not None:
+        kw["dt_internal"] = parse_float(args.dt_internal, "--dt-internal")
+    if args.s0 is not None:
+        kw["s0"] = parse_float(args.s0, "--s0")
+    report = build_fmu(args.tire, args.grid, args.output, BuildOptions(**kw))
+    if args.json:
+        dump_json(report.as_dict())
+        return 0
+    print(f"wrote {report.path} ({report.size_bytes / 1e6:.2f} MB) in {report.seconds:.1f} s")
+    print(f"tire      {report.tire}")
+    print(f"grid      {report.grid_source}  {report.grid_hash}")
+    print(f"guid      {report.guid}")
+    print(f"build id  {report.build_id}")
+    print(f"runtime   {report.runtime_package} (numpy + standard library)")
+    print("validated with fmpy: no problems")
+    return 0
+
+
+def _run_info(args: argparse.Namespace) -> int:
+    from .build import read_fmu_info
+
+    info = read_fmu_info(args.fmu)
+    if args.validate:
+        from fmpy.validation import validate_fmu
+
+        info["validation_problems"] = validate_fmu(args.fmu)
+    if args.json:
+        dump_json(info)
+        return 0
+    g = info["grid"]
+    print(f"fmu       {info['file']}  ({info['modelName']} {info['version']})")
+    print(f"guid      {info['guid']}")
+    print(f"build id  {info['build_id']}")
+    print(f"tire      {info['tire']} ({info['tire_file']})")
+    print(f"grid      {g['source']}  {g['hash']}")
+    for key in ("compound_name", "surface_name", "s0_m", "D_m", "created"):
+        if key in g["meta"]:
+            print(f"          {key} = {g['meta'][key]}")
+    print("options   " + ", ".join(f"{k} = {v}" for k, v in info["options"].items()))
+    print(f"needs     Python >= 3.11 with {', '.join(info['requirements'])}")
+    if args.validate:
+        problems = info["validation_problems"]
+        print("validation: " + ("no problems" if not problems else
+                                "\n  - " + "\n  - ".join(problems)))
+        return 1 if problems else 0
+    return 0

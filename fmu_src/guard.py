@@ -1,0 +1,162 @@
+"""The FMU's input envelope: what reaches the tire model when a master sends bad inputs.
+
+A vehicle simulator can send anything: NaN after a solver blow-up, a negative load when the
+wheel leaves the ground, a spin of 1e9 rad/s. The transient model refuses non-finite inputs
+(:class:`lookup.errors.InputError`); inside an FMU that would end the simulation with a fatal
+error. :class:`InputGuard` sits between the FMI inputs and the model and makes every step
+well defined:
+
+=====================================  ===========================================  =====
+input                                  passed to the model                          bit
+=====================================  ===========================================  =====
+NaN or +-inf (any input)               its last finite value (start value at first)    1
+``Fz < 0``                             0 (lift-off: the model gives zero forces)       2
+``|vx|, |vy| > limit.v``,              clamped to the limit, sign kept                 4
+``|omega| > limit.omega``
+``Fz > limit.Fz``                      ``limit.Fz``                                    8
+``T_surface`` outside                  clamped into ``[limit.T_min, limit.T_max]``    16
+``[limit.T_min, limit.T_max]``
+``mu_scale < 0`` or ``> limit.mu_scale``  clamped into ``[0, limit.mu_scale]``         32
+=====================================  ===========================================  =====
+
+The bits of a step add up to the FMU output ``input_status``. Each condition is reported once
+when it starts (warning) and once when it clears (with the number of steps it lasted), so a
+master stepping at 1 kHz is not flooded. Standstill (``vx = omega = 0``), creeping and
+reversing (negative ``vx`` and ``omega``) are normal inputs and pass unchanged.
+
+This module imports only the standard library: it runs inside the FMU.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from fmu_src.interface import STATUS_BITS
+
+#: Input names in the order the guard takes them.
+NAMES = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale")
+#: Units of the inputs (for messages).
+_UNITS = ("m/s", "m/s", "rad/s", "N", "K", "")
+
+#: FMI status codes used for messages (fmi2OK, fmi2Warning).
+OK, WARNING = 0, 1
+
+
+class InputGuard:
+    """Keeps the inputs of each step inside the model's envelope (module docstring).
+
+    Parameters
+    ----------
+    limits
+        ``limit.*`` values of :data:`fmu_src.interface.LIMITS` [SI].
+    start
+        Start values of the inputs (the substitute for a non-finite input before any finite
+        one has been seen), in :data:`NAMES` order.
+    """
+
+    def __init__(self, limits: dict[str, float], start: list[float]) -> None:
+        self.v_max = float(limits["limit.v"])
+        self.omega_max = float(limits["limit.omega"])
+        self.Fz_max = float(limits["limit.Fz"])
+        self.T_min = float(limits["limit.T_min"])
+        self.T_max = float(limits["limit.T_max"])
+        self.mu_max = float(limits["limit.mu_scale"])
+        bad = [k for k, v in limits.items() if not (math.isfinite(v) and v > 0)]
+        if bad or not self.T_min < self.T_max:
+            raise ValueError(f"input envelope: {', '.join(bad) or 'limit.T_min'} must be "
+                             f"finite and > 0, and limit.T_min < limit.T_max (got {limits})")
+        self.last = [float(x) for x in start]
+        #: active conditions: key -> number of steps it has lasted
+        self.active: dict[str, int] = {}
+
+    def apply(self, u: list[float]) -> tuple[list[float], int, list[tuple[int, str]]]:
+        """Inputs for the model, the status bits and the messages to log for one step.
+
+        Parameters
+        ----------
+        u
+            Inputs in :data:`NAMES` order, as the master set them.
+
+        Returns
+        -------
+        values, status, messages
+            Inputs to pass to the model, the sum of :data:`~fmu_src.interface.STATUS_BITS`
+            of this step, and ``(fmi status, text)`` pairs to log.
+        """
+        x = list(u)
+        found: dict[str, str] = {}
+        last = self.last
+        for i in range(6):
+            if math.isfinite(x[i]):
+                last[i] = x[i]
+            else:
+                found[f"nonfinite:{NAMES[i]}"] = (
+                    f"input {NAMES[i]} = {x[i]!r} is not finite: holding its last finite "
+                    f"value {last[i]:g} {_UNITS[i]}".rstrip())
+                x[i] = last[i]
+        Fz, T, mu = x[3], x[4], x[5]
+        for i, lim in ((0, self.v_max), (1, self.v_max), (2, self.omega_max)):
+            if abs(x[i]) > lim:
+                found[f"speed_clamped:{NAMES[i]}"] = (
+                    f"input {NAMES[i]} = {x[i]:g} {_UNITS[i]} is beyond the envelope "
+                    f"(limit {lim:g}): clamped")
+                x[i] = math.copysign(lim, x[i])
+        if Fz < 0.0:
+            found["negative_load"] = (f"input Fz = {Fz:g} N is negative: taken as lift-off "
+                                      f"(Fz = 0, no forces)")
+            x[3] = 0.0
+        elif Fz > self.Fz_max:
+            found["load_clamped"] = (f"input Fz = {Fz:g} N is beyond the envelope (limit.Fz "
+                                     f"= {self.Fz_max:g} N): clamped")
+            x[3] = self.Fz_max
+        if not self.T_min <= T <= self.T_max:
+            found["temperature_clamped"] = (
+                f"input T_surface = {T:g} K is outside [{self.T_min:g}, {self.T_max:g}] K: "
+                f"clamped")
+            x[4] = min(max(T, self.T_min), self.T_max)
+        if not 0.0 <= mu <= self.mu_max:
+            found["mu_scale_clamped"] = (f"input mu_scale = {mu:g} is outside [0, "
+                                         f"{self.mu_max:g}]: clamped")
+            x[5] = min(max(mu, 0.0), self.mu_max)
+        if not found and not self.active:
+            return x, 0, []
+        return x, self._status(found), self._messages(found)
+
+    @staticmethod
+    def _status(found: dict[str, str]) -> int:
+        """Sum of the status bits of the conditions found."""
+        bits = 0
+        for key in found:
+            bits |= STATUS_BITS[key.partition(":")[0]]
+        return bits
+
+    def _messages(self, found: dict[str, str]) -> list[tuple[int, str]]:
+        """Messages for conditions that start or clear in this step; updates the counters."""
+        msgs = []
+        for key, text in found.items():
+            if key in self.active:
+                self.active[key] += 1
+            else:
+                self.active[key] = 1
+                bit = STATUS_BITS[key.partition(":")[0]]
+                msgs.append((WARNING, f"{text} (input_status bit {bit}; logged once until "
+                                      f"it clears)"))
+        for key in [k for k in self.active if k not in found]:
+            n = self.active.pop(key)
+            msgs.append((OK, f"input condition '{key}' cleared after {n} step(s)"))
+        return msgs
+
+    # -- state (part of the FMU state) -------------------------------------------------------
+    def get_state(self) -> dict[str, Any]:
+        """Last finite inputs and active conditions (copies)."""
+        return {"last": list(self.last), "active": dict(self.active)}
+
+    def set_state(self, state: dict[str, Any]) -> None:
+        """Restore :meth:`get_state`."""
+        last = [float(v) for v in state["last"]]
+        if len(last) != len(NAMES):
+            raise ValueError(f"input guard state has {len(last)} inputs, expected "
+                             f"{len(NAMES)}")
+        self.last = last
+        self.active = {str(k): int(v) for k, v in state["active"].items()}

@@ -1,0 +1,323 @@
+"""The FMU's interface as data: variables, units, start values and dependencies.
+
+One table describes every variable of the brush-tire FMU (name, causality, type, unit,
+description, start value); the slave (:mod:`fmu_src.slave`) registers its variables from it and
+the build (:mod:`fmu_src.model_description`) writes units, unit definitions and the model
+structure from the same table, so the two cannot disagree.
+
+Conventions (issue 5, ``../shared/design.md``): SI units, FMI structured names. The tire
+parameters are the fields of :class:`tire_brush.params.TireParams` under ``tire.``
+(``tire.tread.k_x``); every one of them needs an entry in :data:`TIRE_FIELDS`, the build refuses
+a tire whose parameters are not all covered.
+
+Inputs are held over a communication step (the transient model's "synchronize, then advance").
+Outputs are those of the step just taken; setting an input does not change an output until the
+next ``doStep`` (no direct feedthrough: ``ModelStructure/Outputs`` lists no dependencies).
+Before the first step the outputs are those of the undeflected tire at the start inputs:
+zero forces, ``kappa`` and ``alpha`` of the start kinematics, ``T_tread = T_surface``.
+
+This module imports only the standard library and :mod:`tire_brush.params` (stdlib only): it
+runs inside the FMU.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from typing import Any
+
+from tire_brush.params import (
+    CarcassParams,
+    PatchLaw,
+    ThermalParams,
+    TireParams,
+    TreadParams,
+)
+
+#: Model name and FMI model identifier (name of the binary inside the FMU).
+MODEL_NAME = "BrushTire"
+
+#: Unit definitions: name -> exponents of the SI base units (FMI 2.0 ``BaseUnit``; ``rad``
+#: counts as a base unit there).
+UNITS: dict[str, dict[str, int]] = {
+    "1": {},
+    "m": {"m": 1},
+    "s": {"s": 1},
+    "m/s": {"m": 1, "s": -1},
+    "rad": {"rad": 1},
+    "rad/s": {"rad": 1, "s": -1},
+    "N": {"kg": 1, "m": 1, "s": -2},
+    "N.m": {"kg": 1, "m": 2, "s": -2},
+    "K": {"K": 1},
+    "N/m": {"kg": 1, "s": -2},
+    "N.s/m": {"kg": 1, "s": -1},
+    "N/m3": {"kg": 1, "m": -2, "s": -2},
+    "N.s/m3": {"kg": 1, "m": -2, "s": -1},
+    "kg/m2": {"kg": 1, "m": -2},
+    "J/K": {"kg": 1, "m": 2, "s": -2, "K": -1},
+    "W/K": {"kg": 1, "m": 2, "s": -3, "K": -1},
+}
+
+#: Display units offered to tools: unit -> (name, factor, offset) with
+#: ``display = factor * value + offset`` (FMI 2.0 ``DisplayUnit``).
+DISPLAY_UNITS: dict[str, tuple[tuple[str, float, float], ...]] = {
+    "K": (("degC", 1.0, -273.15),),
+    "rad": (("deg", 180.0 / math.pi, 0.0),),
+    "m/s": (("km/h", 3.6, 0.0),),
+    "rad/s": (("rpm", 30.0 / math.pi, 0.0),),
+    "N": (("kN", 1e-3, 0.0),),
+}
+
+#: Bits of the output ``input_status`` (0: the step used the inputs as given).
+STATUS_BITS: dict[str, int] = {
+    "nonfinite": 1,        # a NaN/inf input was replaced by its last finite value
+    "negative_load": 2,    # Fz < 0 was taken as lift-off (Fz = 0)
+    "speed_clamped": 4,    # |vx|, |vy| > limit.v or |omega| > limit.omega: clamped
+    "load_clamped": 8,     # Fz > limit.Fz: clamped
+    "temperature_clamped": 16,  # T_surface outside [limit.T_min, limit.T_max]: clamped
+    "mu_scale_clamped": 32,     # mu_scale < 0 or > limit.mu_scale: clamped
+    "model_reset": 64,     # the model failed in this step and was reset to rest
+}
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One FMI variable.
+
+    Attributes
+    ----------
+    name : str
+        Structured FMI name.
+    causality : str
+        ``"input"``, ``"output"``, ``"parameter"`` or ``"local"``.
+    type : str
+        ``"Real"``, ``"Integer"``, ``"Boolean"`` or ``"String"``.
+    unit : str or None
+        Unit of a Real (a key of :data:`UNITS`); None for the other types.
+    description : str
+        What it is, with the unit.
+    start : float, int, bool, str or None
+        Start value (inputs, parameters, constants); None for calculated outputs.
+    relative : bool
+        A difference of the quantity (FMI ``relativeQuantity``: display offsets do not apply,
+        e.g. a temperature rise in K).
+    """
+
+    name: str
+    causality: str
+    type: str
+    unit: str | None
+    description: str
+    start: Any = None
+    relative: bool = False
+
+
+#: Inputs in order: name, unit, start (None: the tire's nominal load), description.
+INPUTS: tuple[tuple[str, str, float | None, str], ...] = (
+    ("vx", "m/s", 0.0, "Wheel-centre velocity in the wheel plane (longitudinal) [m/s]"),
+    ("vy", "m/s", 0.0, "Wheel-centre velocity lateral to the wheel plane [m/s]"),
+    ("omega", "rad/s", 0.0, "Wheel spin [rad/s]; the rolling speed is omega * tire.R_e"),
+    ("Fz", "N", None, "Vertical load [N]; Fz <= 0 is lift-off (no forces)"),
+    ("T_surface", "K", 293.15,
+     "Background tread/road temperature [K] (friction tables' T0; the tread temperature "
+     "relaxes to it)"),
+    ("mu_scale", "1", 1.0, "Road friction scale [1], multiplies both friction branches"),
+)
+
+#: Outputs in order (the :class:`tire_brush.slip.BrushOutputs` fields): name, unit,
+#: description.
+OUTPUTS: tuple[tuple[str, str, str], ...] = (
+    ("Fx", "N", "Longitudinal force on the tire from the road [N] (braking: Fx < 0)"),
+    ("Fy", "N", "Lateral force on the tire from the road [N]"),
+    ("Mz", "N.m", "Aligning moment about the vertical axis through the patch centre [N.m]"),
+    ("kappa", "1", "Longitudinal slip [1] (reported, with the speed floor v_floor)"),
+    ("alpha", "rad", "Slip angle [rad] (reported, with the speed floor v_floor)"),
+    ("mu_eff", "1", "Utilised friction |F| / Fz [1] (0 without load)"),
+    ("mu_slide", "1",
+     "Pressure-weighted mean friction coefficient (eq. 28) of the sliding elements [1]"),
+    ("sliding_fraction", "1", "Share of the contact patch where the tread slides [1]"),
+    ("dT_flash_max", "K", "Largest flash-temperature rise in the contact patch [K]"),
+    ("T_tread", "K",
+     "Tread (background) temperature the friction is read at [K]; equals T_surface when "
+     "tire.thermal.enabled is false"),
+)
+
+#: Tire parameters (fields of TireParams): dotted field path -> (unit, description). Boolean
+#: fields have unit None.
+TIRE_FIELDS: dict[str, tuple[str | None, str]] = {
+    "R_e": ("m", "Effective rolling radius [m]: the rolling speed is omega * R_e"),
+    "Fz_nom": ("N", "Nominal load [N]: the tread elements are spaced on the patch at this load"),
+    "patch.R0": ("m", "Unloaded radius [m] (patch-size law, Pacejka 2012 eqs. (A3.7)-(A3.8))"),
+    "patch.width": ("m", "Nominal section width W [m] (patch-width law)"),
+    "patch.C_z": ("N/m", "Vertical stiffness [N/m] (deflection Fz / C_z of the patch laws)"),
+    "patch.q_ra1": ("1", "Square-root coefficient of the patch-length law [1]"),
+    "patch.q_ra2": ("1", "Linear coefficient of the patch-length law [1]"),
+    "patch.q_rb1": ("1", "Cube-root coefficient of the patch-width law [1]"),
+    "patch.q_rb2": ("1", "Linear coefficient of the patch-width law [1]"),
+    "patch.Fz_max": ("N", "Load [N] above which the patch keeps its size"),
+    "tread.k_x": ("N/m3", "Longitudinal tread shear stiffness per unit footprint area [N/m3]"),
+    "tread.k_y": ("N/m3", "Lateral tread shear stiffness per unit footprint area [N/m3]"),
+    "tread.mass": ("kg/m2", "Tread element tip mass per unit footprint area [kg/m2]"),
+    "tread.d_x": ("N.s/m3", "Longitudinal tread damping per unit footprint area [N.s/m3]"),
+    "tread.d_y": ("N.s/m3", "Lateral tread damping per unit footprint area [N.s/m3]"),
+    "tread.void_ratio": ("1", "Groove (void) fraction of the footprint [1]"),
+    "carcass.rigid": (None, "Rigid carcass: no belt deflection"),
+    "carcass.k_x": ("N/m", "Longitudinal belt (carcass) stiffness [N/m]"),
+    "carcass.k_y": ("N/m", "Lateral belt (carcass) stiffness [N/m]"),
+    "carcass.d_x": ("N.s/m", "Longitudinal belt (carcass) damping [N.s/m]"),
+    "carcass.d_y": ("N.s/m", "Lateral belt (carcass) damping [N.s/m]"),
+    "thermal.enabled": (None, "Carry the lumped tread temperature (else T_tread = T_surface)"),
+    "thermal.heat_capacity": ("J/K", "Heat capacity of the tread [J/K]"),
+    "thermal.conductance": ("W/K", "Heat conductance from the tread to the surroundings [W/K]"),
+    "thermal.heat_fraction": ("1", "Fraction of the frictional heat entering the tread [1]"),
+}
+
+#: Parameter groups of TireParams and their classes.
+_GROUPS: dict[str, type] = {"patch": PatchLaw, "tread": TreadParams, "carcass": CarcassParams,
+                            "thermal": ThermalParams}
+#: TireParams fields that are text, not parameters.
+_TEXT_FIELDS = ("name", "description", "provenance", "source")
+
+#: Model options: name -> (type, unit, description). Start values come from the build.
+OPTIONS: dict[str, tuple[str, str | None, str]] = {
+    "n_elements": ("Integer", None,
+                   "Tread elements on the contact patch at the nominal load (>= 2)"),
+    "dt_internal": ("Real", "s", "Longest internal time step [s]; a communication step is "
+                                 "split into equal sub-steps no longer than this"),
+    "s0": ("Real", "m", "Blending slip length s0 of eq. (28) [m] (cold to hot friction); "
+                        "start value from the grid (0.2 D)"),
+    "v_floor": ("Real", "m/s", "Speed floor of the reported kappa and alpha [m/s]"),
+}
+
+#: Input envelope (:mod:`fmu_src.guard`): name -> (unit, description). Start values come from
+#: :func:`default_limits`.
+LIMITS: dict[str, tuple[str, str]] = {
+    "limit.v": ("m/s", "Largest |vx| and |vy| passed to the model [m/s]; larger inputs are "
+                       "clamped (input_status bit 4)"),
+    "limit.omega": ("rad/s", "Largest |omega| passed to the model [rad/s]; larger inputs are "
+                             "clamped (input_status bit 4)"),
+    "limit.Fz": ("N", "Largest load passed to the model [N]; larger inputs are clamped "
+                      "(input_status bit 8)"),
+    "limit.T_min": ("K", "Lowest T_surface passed to the model [K] (input_status bit 16)"),
+    "limit.T_max": ("K", "Highest T_surface passed to the model [K] (input_status bit 16)"),
+    "limit.mu_scale": ("1", "Largest mu_scale passed to the model [1] (input_status bit 32)"),
+}
+
+#: Constant strings that name what the FMU was built from.
+INFO: dict[str, str] = {
+    "info.tire": "Name of the tire parameter set the FMU was built with",
+    "info.grid_hash": "Content hash of the friction grid inside the FMU",
+    "info.build_id": "Hash of all build inputs (the FMU's GUID is derived from it)",
+}
+
+#: Dependencies of the initial outputs (InitialUnknowns) on inputs and parameters; outputs not
+#: listed are zero before the first step (undeflected tire) and depend on nothing.
+INITIAL_DEPENDENCIES: dict[str, tuple[str, ...]] = {
+    "kappa": ("vx", "omega", "tire.R_e", "v_floor", "limit.v", "limit.omega"),
+    "alpha": ("vx", "vy", "v_floor", "limit.v"),
+    "T_tread": ("T_surface", "limit.T_min", "limit.T_max"),
+    "input_status": ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "limit.v",
+                     "limit.omega", "limit.Fz", "limit.T_min", "limit.T_max",
+                     "limit.mu_scale"),
+}
+
+
+def default_limits(tire: TireParams) -> dict[str, float]:
+    """Start values of the input envelope [SI]: 150 m/s, 1000 rad/s (rim speed ~ 300 m/s),
+    five times the patch law's Fz_max, 200..500 K and mu_scale <= 5. They keep the model in a
+    range where every number stays finite; they are not physical limits of a tire."""
+    return {"limit.v": 150.0, "limit.omega": 1000.0, "limit.Fz": 5.0 * tire.patch.Fz_max,
+            "limit.T_min": 200.0, "limit.T_max": 500.0, "limit.mu_scale": 5.0}
+
+
+# -- tire parameters as flat FMI parameters ---------------------------------------------------
+def tire_field_paths() -> list[str]:
+    """Dotted paths of every parameter field of :class:`TireParams`, in declaration order."""
+    out = []
+    for f in fields(TireParams):
+        if f.name in _TEXT_FIELDS:
+            continue
+        if f.name in _GROUPS:
+            out += [f"{f.name}.{g.name}" for g in fields(_GROUPS[f.name])]
+        else:
+            out.append(f.name)
+    return out
+
+
+def check_tire_fields() -> list[str]:
+    """Problems: tire parameters without an FMU variable, or FMU variables without a field."""
+    have = tire_field_paths()
+    problems = [f"tire parameter '{p}' has no FMU variable: add it to "
+                f"fmu_src.interface.TIRE_FIELDS" for p in have if p not in TIRE_FIELDS]
+    problems += [f"fmu_src.interface.TIRE_FIELDS names '{p}', which TireParams does not have"
+                 for p in TIRE_FIELDS if p not in have]
+    return problems
+
+
+def tire_to_dict(tire: TireParams) -> dict[str, Any]:
+    """JSON-able dict of a tire: flat parameters by dotted path plus the text fields."""
+    flat: dict[str, Any] = {}
+    for path in tire_field_paths():
+        obj: Any = tire
+        for part in path.split("."):
+            obj = getattr(obj, part)
+        flat[path] = obj
+    return {"name": tire.name, "description": tire.description,
+            "provenance": tire.provenance, "parameters": flat}
+
+
+def tire_from_parameters(name: str, parameters: dict[str, Any], *, description: str = "",
+                         provenance: str = "") -> TireParams:
+    """Build (and so validate) :class:`TireParams` from flat parameters by dotted path.
+
+    Raises
+    ------
+    lookup.errors.InputError
+        A parameter is missing or out of range (the message names the field).
+    """
+    groups: dict[str, dict[str, Any]] = {g: {} for g in _GROUPS}
+    top: dict[str, Any] = {}
+    for path, value in parameters.items():
+        head, _, rest = path.partition(".")
+        if rest:
+            groups[head][rest] = value
+        else:
+            top[head] = value
+    built = {g: cls(**groups[g]) for g, cls in _GROUPS.items()}
+    return TireParams(name=name, description=description, provenance=provenance, **top,
+                      **built)
+
+
+def variables(tire: dict[str, Any], options: dict[str, Any],
+              limits: dict[str, float], info: dict[str, str]) -> list[Variable]:
+    """Every variable of the FMU in value-reference order.
+
+    Parameters
+    ----------
+    tire
+        From :func:`tire_to_dict` (start values of the tire parameters).
+    options
+        Start values of :data:`OPTIONS`.
+    limits
+        Start values of :data:`LIMITS`.
+    info
+        Values of :data:`INFO`.
+    """
+    p = tire["parameters"]
+    out = [Variable(n, "input", "Real", u, d, p["Fz_nom"] if s is None else s)
+           for n, u, s, d in INPUTS]
+    out += [Variable(n, "output", "Real", u, d, relative=(n == "dT_flash_max"))
+            for n, u, d in OUTPUTS]
+    bits = ", ".join(f"{b} {k}" for k, b in STATUS_BITS.items())
+    out.append(Variable("input_status", "output", "Integer", None,
+                        f"Sum of flags of the last step ({bits}); 0 = inputs used as given"))
+    for path, (unit, desc) in TIRE_FIELDS.items():
+        typ = "Boolean" if unit is None else "Real"
+        out.append(Variable(f"tire.{path}", "parameter", typ, unit, desc, p[path]))
+    for name, (typ, unit, desc) in OPTIONS.items():
+        out.append(Variable(name, "parameter", typ, unit, desc, options[name]))
+    for name, (unit, desc) in LIMITS.items():
+        out.append(Variable(name, "parameter", "Real", unit, desc, limits[name]))
+    for name, desc in INFO.items():
+        out.append(Variable(name, "local", "String", None, desc, info[name]))
+    return out

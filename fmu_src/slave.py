@@ -1,0 +1,278 @@
+"""The pythonfmu slave: a thin FMI 2.0 co-simulation shell over the transient brush tire.
+
+:class:`BrushTireSlave` holds no physics. It
+
+* registers the variables of :mod:`fmu_src.interface` (inputs, outputs, tire parameters, model
+  options, input envelope, provenance strings);
+* builds a :class:`tire_brush.transient.TransientBrushTire` on the grid in its resources when
+  initialisation ends (parameters are ``fixed``: set them before that);
+* per ``doStep``: passes the inputs through :class:`fmu_src.guard.InputGuard`, advances the
+  model by the communication step (the model splits it into sub-steps of at most
+  ``dt_internal``) and publishes the model's outputs;
+* saves and restores its full state (:meth:`_get_fmu_state`), serialized exactly by
+  :mod:`fmu_src.state`.
+
+Status of ``doStep`` (pythonfmu can return fmi2OK or fmi2Discard):
+
+* fmi2OK -- the step was taken. If inputs had to be repaired (NaN, negative load, beyond the
+  envelope) the output ``input_status`` says which (bits of
+  :data:`fmu_src.interface.STATUS_BITS`) and a warning goes to the FMI logger when the
+  condition starts (logging on: fmpy ``debug_logging=True``).
+* fmi2Discard -- nothing was advanced because the communication step is negative, not finite
+  or longer than :data:`MAX_SUBSTEPS` internal steps; or the model failed inside the step
+  (an error in tirefric): it is then reset to an undeflected tire at rest, ``input_status``
+  has bit 64, and the error is logged. Outputs stay finite in every case.
+
+In the FMU this file is the slave module (renamed, imports pointing at the FMU's private copy
+of the packages, see :mod:`fmu_src.package`); in a source checkout it runs as is, given a
+resources folder made by :func:`fmu_src.build.stage_resources`.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+from pythonfmu import (
+    Boolean,
+    Fmi2Causality,
+    Fmi2Initial,
+    Fmi2Slave,
+    Fmi2Variability,
+    Integer,
+    Real,
+    String,
+)
+from pythonfmu.enums import Fmi2Status
+
+from fmu_src import state as state_io
+from fmu_src.guard import InputGuard
+from fmu_src.interface import (
+    INPUTS,
+    LIMITS,
+    MODEL_NAME,
+    OUTPUTS,
+    STATUS_BITS,
+    TIRE_FIELDS,
+    Variable,
+    tire_from_parameters,
+    variables,
+)
+from lookup.grid.reader import FrictionGrid
+from tire_brush.friction import GridFriction
+from tire_brush.slip import BrushOutputs, slip_from_kinematics
+from tire_brush.transient import TransientBrushTire
+
+#: Folder inside the FMU's resources with build.json and the grid.
+DATA_DIR = "tirefric-data"
+#: Name of the build description inside :data:`DATA_DIR`.
+BUILD_FILE = "build.json"
+#: Tag of the FMU state.
+STATE_FORMAT = "tirefric-brush-tire-fmu-state"
+#: Longest communication step, in internal steps (a guard against a step that would run for
+#: minutes: 1e5 steps of 1 ms is 100 s of simulated time).
+MAX_SUBSTEPS = 100_000
+
+_CAUSALITY = {"input": Fmi2Causality.input, "output": Fmi2Causality.output,
+              "parameter": Fmi2Causality.parameter, "local": Fmi2Causality.local}
+_OUTPUT_NAMES = tuple(n for n, _, _ in OUTPUTS)
+
+
+def read_build(resources: str | Path) -> dict[str, Any]:
+    """The build description (``build.json``) in a resources folder."""
+    path = Path(resources) / DATA_DIR / BUILD_FILE
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise FileNotFoundError(f"{path}: cannot read the FMU's build description "
+                                f"({exc})") from None
+
+
+class BrushTireSlave(Fmi2Slave):
+    """FMI 2.0 co-simulation slave of the transient brush tire (module docstring).
+
+    Parameters
+    ----------
+    **kwargs
+        From pythonfmu: ``instance_name``, ``resources`` (the FMU's resources folder),
+        ``visible``, ``logger``.
+    """
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        if self.resources is None:
+            raise ValueError("BrushTireSlave needs its resources folder (resources=...)")
+        build = read_build(self.resources)
+        self._build = build
+        self.modelName = MODEL_NAME
+        for key in ("author", "description", "version", "license", "copyright"):
+            if key in build["model"]:
+                setattr(self, key, build["model"][key])
+        grid_path = Path(self.resources) / DATA_DIR / build["grid"]["file"]
+        self._grid = FrictionGrid.load_npz(grid_path)
+        if self._grid.hash != build["grid"]["hash"]:
+            raise ValueError(f"{grid_path}: grid hash {self._grid.hash} differs from the build's "
+                             f"{build['grid']['hash']}")
+        info = {"info.tire": build["tire"]["name"], "info.grid_hash": self._grid.hash,
+                "info.build_id": build["build_id"]}
+        self._vars: list[Variable] = variables(build["tire"], build["options"],
+                                               build["limits"], info)
+        self._u = [float(v.start) for v in self._vars if v.causality == "input"]
+        self._u_start = list(self._u)
+        self._p: dict[str, Any] = {v.name: v.start for v in self._vars
+                                   if v.causality == "parameter"}
+        self._out = BrushOutputs(*([0.0] * len(_OUTPUT_NAMES)))
+        self._status = 0
+        self._model: TransientBrushTire | None = None
+        self._guard: InputGuard | None = None
+        self._model_key = ""
+        for i, v in enumerate(self._vars):
+            self.register_variable(self._fmi_variable(v, i, info))
+
+    # -- variables ------------------------------------------------------------------------------
+    def _fmi_variable(self, v: Variable, i: int, info: dict[str, str]) -> Any:
+        """The pythonfmu variable of ``v`` with its getter and setter."""
+        kw: dict[str, Any] = {"causality": _CAUSALITY[v.causality],
+                              "description": v.description}
+        if v.causality == "input":
+            kw.update(variability=Fmi2Variability.continuous,
+                      getter=lambda: self._u[i], setter=lambda x: self._u.__setitem__(i, x))
+        elif v.causality == "output" and v.type == "Real":
+            kw.update(variability=Fmi2Variability.continuous, initial=Fmi2Initial.calculated,
+                      getter=lambda: getattr(self._out, v.name))
+        elif v.causality == "output":
+            kw.update(variability=Fmi2Variability.discrete, initial=Fmi2Initial.calculated,
+                      getter=lambda: self._status)
+        elif v.causality == "parameter":
+            kw.update(variability=Fmi2Variability.fixed, initial=Fmi2Initial.exact,
+                      getter=lambda: self._p[v.name],
+                      setter=lambda x: self._set_parameter(v.name, x))
+        else:
+            kw.update(variability=Fmi2Variability.constant, initial=Fmi2Initial.exact,
+                      getter=lambda: info[v.name])
+        cls = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}[v.type]
+        return cls(v.name, **kw)
+
+    def _set_parameter(self, name: str, value: Any) -> None:
+        """Set a fixed parameter (only before the model is built)."""
+        if self._model is not None:
+            self.log(f"parameter {name} is fixed: it cannot change after initialization "
+                     f"(ignored)", Fmi2Status.error)
+            return
+        self._p[name] = value
+
+    # -- FMI life cycle -------------------------------------------------------------------------
+    def setup_experiment(self, start_time: float, stop_time: float | None = None,
+                         tolerance: float | None = None) -> None:
+        """Nothing to set up: the model's time starts at zero and advances with the steps."""
+
+    def exit_initialization_mode(self) -> None:
+        """Build the model from the parameters; outputs of the undeflected tire."""
+        self._build_model()
+        self._initial_outputs()
+
+    def do_step(self, current_time: float, step_size: float) -> bool:
+        """Advance by one communication step (status: module docstring)."""
+        if self._model is None:
+            self._build_model()
+        model, guard = self._model, self._guard
+        if not (math.isfinite(step_size) and step_size >= 0.0) or \
+                step_size > MAX_SUBSTEPS * model.dt_internal:
+            self.log(f"doStep at t = {current_time!r} s: communication step {step_size!r} s "
+                     f"is not finite, negative or longer than {MAX_SUBSTEPS} internal steps "
+                     f"of {model.dt_internal:g} s; nothing was advanced", Fmi2Status.error)
+            return False
+        x, status, messages = guard.apply(self._u)
+        for level, text in messages:
+            self.log(f"t = {current_time:.6g} s: {text}", Fmi2Status(level))
+        try:
+            out = model.step(step_size, *x)
+            ok = all(map(math.isfinite, out.__dict__.values()))
+            why = "non-finite outputs"
+        except Exception as exc:  # a failure of the model must not end the co-simulation
+            ok, why = False, f"{type(exc).__name__}: {exc}"
+        if ok:
+            self._out, self._status = out, status
+            return True
+        model.reset()
+        self._initial_outputs(x)
+        self._status = status | STATUS_BITS["model_reset"]
+        self.log(f"doStep at t = {current_time:.6g} s: the tire model failed ({why}) with "
+                 f"inputs {dict(zip((n for n, *_ in INPUTS), x, strict=True))}; it was reset "
+                 f"to an undeflected tire at rest (input_status bit 64)", Fmi2Status.error)
+        return False
+
+    # -- model ----------------------------------------------------------------------------------
+    def _build_model(self) -> None:
+        """Transient brush tire and input guard from the current parameters."""
+        p = self._p
+        text = self._build["tire"]
+        tire = tire_from_parameters(text["name"], {f: p[f"tire.{f}"] for f in TIRE_FIELDS},
+                                    description=text["description"],
+                                    provenance=text["provenance"])
+        n_elements = p["n_elements"]
+        if isinstance(n_elements, float) and n_elements.is_integer():
+            n_elements = int(n_elements)
+        self._model = TransientBrushTire(tire, GridFriction(self._grid, s0=float(p["s0"])),
+                                         n_elements=n_elements,
+                                         dt_internal=float(p["dt_internal"]),
+                                         v_floor=float(p["v_floor"]))
+        self._guard = InputGuard({k: float(p[k]) for k in LIMITS}, self._u_start)
+        self._model_key = json.dumps(p, sort_keys=True)
+
+    def _initial_outputs(self, x: list[float] | None = None) -> None:
+        """Outputs of the undeflected tire at inputs ``x`` (default: the current inputs,
+        through the guard): zero forces, the reported slips, T_tread = T_surface."""
+        if x is None:
+            x, self._status, messages = self._guard.apply(self._u)
+            for level, text in messages:
+                self.log(f"initialization: {text}", Fmi2Status(level))
+        vx, vy, omega, _, T_surface, _ = x
+        model = self._model
+        kappa, alpha = slip_from_kinematics(vx, vy, omega, model.params.R_e, model.v_floor)
+        self._out = BrushOutputs(0.0, 0.0, 0.0, kappa, alpha, 0.0, 0.0, 0.0, 0.0, T_surface)
+
+    # -- FMU state --------------------------------------------------------------------------------
+    def _get_fmu_state(self) -> dict[str, Any]:
+        """The full state (copies): inputs, parameters, outputs, input guard and model."""
+        model, guard = self._model, self._guard
+        return {"format": STATE_FORMAT, "build_id": self._build["build_id"],
+                "inputs": list(self._u), "parameters": dict(self._p),
+                "outputs": [getattr(self._out, n) for n in _OUTPUT_NAMES],
+                "status": self._status,
+                "guard": None if guard is None else guard.get_state(),
+                "model": None if model is None else model.get_state()}
+
+    def _set_fmu_state(self, state: dict[str, Any]) -> None:
+        """Restore a state of :meth:`_get_fmu_state` (bit for bit)."""
+        if not isinstance(state, dict) or state.get("format") != STATE_FORMAT:
+            raise ValueError("not a state of the tirefric brush-tire FMU")
+        if state["build_id"] != self._build["build_id"]:
+            raise ValueError(f"the state comes from another build of the FMU (build "
+                             f"{state['build_id']}, this FMU {self._build['build_id']})")
+        params = dict(state["parameters"])
+        if set(params) != set(self._p):
+            raise ValueError("the state's parameters do not match this FMU's")
+        self._p = params
+        if state["model"] is None:
+            self._model = self._guard = None
+        else:
+            if self._model is None or json.dumps(params, sort_keys=True) != self._model_key:
+                self._build_model()
+            self._model.set_state(state["model"])
+            self._guard.set_state(state["guard"])
+        self._u = [float(x) for x in state["inputs"]]
+        self._out = BrushOutputs(*(float(x) for x in state["outputs"]))
+        self._status = int(state["status"])
+
+    @staticmethod
+    def _fmu_state_to_bytes(state: dict[str, Any]) -> bytes:
+        """Exact serialization (numpy arrays included): :func:`fmu_src.state.to_bytes`."""
+        return state_io.to_bytes(state)
+
+    @staticmethod
+    def _fmu_state_from_bytes(state: bytes) -> dict[str, Any]:
+        """Inverse of :meth:`_fmu_state_to_bytes`."""
+        return state_io.from_bytes(state)
