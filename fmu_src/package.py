@@ -146,27 +146,27 @@ def closure(entry: str = SLAVE_MODULE) -> list[str]:
         A module-level import of a package that is neither the standard library, numpy,
         pythonfmu (slave only) nor tirefric.
     """
-    todo = [entry]
+    pending = [entry]
     seen: set[str] = set()
-    while todo:
-        mod = todo.pop()
+    while pending:
+        mod = pending.pop()
         if mod in seen:
             continue
         seen.add(mod)
         parts = mod.split(".")
-        todo += [".".join(parts[:k]) for k in range(1, len(parts))]  # parent packages
+        pending += [".".join(parts[:k]) for k in range(1, len(parts))]  # parent packages
         tree = ast.parse(_source_path(mod).read_text(encoding="utf-8"), filename=mod)
         for imp in _imports(mod, tree):
             if imp.nested:
                 continue
             top = _top(imp.target)
             if top in PROJECT_PACKAGES:
-                todo.append(imp.target)
+                pending.append(imp.target)
                 for n in imp.names:  # `from pkg import submodule`
                     sub = f"{imp.target}.{n}"
                     if n != "*" and importlib.util.find_spec(imp.target) is not None and \
                             _is_package(imp.target) and _module_exists(sub):
-                        todo.append(sub)
+                        pending.append(sub)
             elif top == "__future__" or top in sys.stdlib_module_names:
                 continue
             elif top in ALLOWED_THIRD_PARTY or (top == "pythonfmu" and mod == entry):
