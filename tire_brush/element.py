@@ -387,3 +387,251 @@ def march_point(props: ElementProps, rows: list, mu0: list, p: list, pf: list, x
             p_slide += pj
             dT_max = max(dT_max, dT * (1.0 - E))
     return Fx, Fy, Mz, n_slide, f_slide, p_slide, dT_max
+
+
+class _Workspace:
+    """Preallocated arrays (and their row views) of :class:`LatticeStepper` for ``n``
+    elements: the step writes every intermediate into them."""
+
+    __slots__ = ("A", "A0", "A1", "Ae", "B", "B0", "B1", "D", "D0", "D1", "E", "G", "V",
+                 "V_hi", "Vn", "Vp", "d", "den", "dq", "floor", "g", "g0", "g1", "g2", "g2_0",
+                 "g2_1", "k", "kd", "mdt", "pa", "pb", "pos", "qq", "r", "r0", "r1", "rel",
+                 "slide", "t1", "t2", "t2_0", "t2_1", "tau", "thr")
+
+    def __init__(self, props: ElementProps, n: int) -> None:
+        self.k = np.repeat(props.k, n, axis=1)        # (2, n) rows of k and d
+        self.d = np.repeat(props.d, n, axis=1)
+        self.kd, self.mdt, self.rel, self.tau = (np.empty((2, n)) for _ in range(4))
+        self.A, self.g, self.g2, self.B, self.D, self.r, self.t2 = (
+            np.empty((2, n)) for _ in range(7))
+        self.A0, self.A1 = self.A
+        self.g0, self.g1 = self.g
+        self.g2_0, self.g2_1 = self.g2
+        self.B0, self.B1 = self.B
+        self.D0, self.D1 = self.D
+        self.r0, self.r1 = self.r
+        self.t2_0, self.t2_1 = self.t2
+        (self.floor, self.G, self.thr, self.Ae, self.V_hi, self.Vp, self.E, self.V, self.Vn,
+         self.pb, self.pa, self.den, self.qq, self.dq, self.t1) = np.empty((15, n))
+        self.slide = np.empty(n, dtype=bool)
+        self.pos = np.empty(n, dtype=bool)
+
+
+class LatticeStepper:
+    """:func:`element_step` fused for the transient model's lattice (one call per sub-step).
+
+    The same implicit step, operation for operation, so the results are identical to the
+    bit (pinned by the tests against :func:`element_step` through the transient model). At
+    ~100 elements numpy's per-call overhead, not arithmetic, sets the cost, so the step
+    removes calls and their overhead: constants are bound once (0-d arrays, cheaper ufunc
+    operands than Python floats), x and y run as ``(2, n)`` rows with same-shape operands
+    (numpy's broadcasting machinery costs more than a second call at this size),
+    intermediates are written into preallocated arrays (:class:`_Workspace`, one per
+    element count), and the table is read through
+    :meth:`~tire_brush.friction.BranchTable.at_sliding` (the linearisation speed never drops
+    below the table's ``v_floor``).
+
+    Parameters
+    ----------
+    props
+        Element properties.
+    table
+        Friction branches.
+    n_newton
+        Friction evaluations per step (as :func:`element_step`).
+    """
+
+    def __init__(self, props: ElementProps, table: BranchTable, n_newton: int) -> None:
+        self.props = props
+        self.table = table
+        self.n_newton = n_newton
+        (kx,), (ky,) = props.k.tolist()
+        (dx,), (dy,) = props.d.tolist()
+        # row of A that is the smaller one for every step size (A_x - A_y keeps the sign of
+        # k_x - k_y and d_x - d_y when those agree); None: take the element-wise minimum
+        if props.isotropic or (kx <= ky and dx <= dy):
+            self._a_min_row: int | None = 0
+        elif kx >= ky and dx >= dy:
+            self._a_min_row = 1
+        else:
+            self._a_min_row = None
+        self._c = tuple(np.array(x) for x in (-table.inv_s0, table.v_floor, 0.0, 1e-300,
+                                              1e-9, S_MAX, -SLOPE_LIMIT, props.m))
+        self._work: dict[int, _Workspace] = {}
+
+    def step(self, state: np.ndarray, pf: np.ndarray, Vb: np.ndarray, dt: float | np.ndarray,
+             dt1: float | np.ndarray, q: FrictionQuery, V0: np.ndarray) -> tuple:
+        """Advance elements by one implicit step of :func:`element_step`, updating ``state``
+        in place.
+
+        Parameters
+        ----------
+        state
+            Shape ``(5, n)``, C-contiguous: rows ``u_x, u_y`` [m], ``w_x, w_y`` [m/s],
+            ``s`` [m].
+        pf
+            ``mu_scale * p`` [Pa], shape ``(n,)``.
+        Vb
+            Belt slip velocity [m/s], shape ``(2, n)`` (equal columns).
+        dt
+            The step [s]: a float, or shape ``(2, n)`` with two equal rows (one step per
+            element, :meth:`StepCoefficients.build`).
+        dt1
+            ``dt`` as a float or one row, shape ``(n,)``.
+        q
+            ``table.prepare(T0, p_rubber)``.
+        V0
+            ``|w|`` at the start [m/s].
+
+        Returns
+        -------
+        tuple
+            ``(tau, friction, speed, cold, dT_flash)`` as the fields of :class:`StepResult`.
+            The arrays belong to the stepper and are overwritten by its next step.
+        """
+        mul, add, sub, div = np.multiply, np.add, np.subtract, np.divide
+        maximum, minimum = np.maximum, np.minimum
+        neg_inv_s0, v_floor, zero, tiny, d_floor, s_max, neg_slope, m0 = self._c
+        props = self.props
+        n = state.shape[1]
+        W = self._work.get(n)
+        if W is None:
+            W = self._work[n] = _Workspace(props, n)
+        # step coefficients (StepCoefficients.build)
+        kd, A = W.kd, W.A
+        mul(W.k, dt, kd)
+        add(kd, W.d, kd)
+        massive = props.m > 0.0
+        if not massive:
+            mdt = zero
+        elif isinstance(dt, np.ndarray):
+            mdt = div(m0, dt, W.mdt)
+        else:
+            mdt = props.m / dt                        # a scalar step keeps its own type
+        add(kd, mdt, A)
+        row = self._a_min_row
+        floor = mul(W.A1 if row == 1 else W.A0 if row == 0 else minimum(W.A0, W.A1),
+                    neg_slope, W.floor)
+        u = state[0:2]
+        w = state[2:4]
+        s = state[4]
+        # g = (k dt + d) Vb - k u (+ m w / dt)
+        g, t2, t1 = W.g, W.t2, W.t1
+        mul(kd, Vb, g)
+        sub(g, mul(W.k, u, t2), g)
+        if massive:
+            add(g, mul(mdt, w, t2), g)
+        G = np.hypot(W.g0, W.g1, W.G)
+        mu0 = q.mu0
+        mu0h = mu0[1]
+        # stick test against eq. (28) at v -> 0 with the slip distance so far
+        thr = np.exp(mul(s, neg_inv_s0, W.thr), W.thr)
+        mul(thr, sub(mu0[0], mu0h, t1), thr)
+        add(thr, mu0h, thr)
+        mul(thr, pf, thr)
+        slide = np.logical_not(np.less_equal(G, thr, W.slide), W.slide)   # as ~(G <= thr)
+        iso = props.isotropic
+        if iso:
+            Ae = W.A0
+        else:
+            g2 = mul(g, g, W.g2)
+            Ae = add(W.g2_0, W.g2_1, W.Ae)
+            maximum(Ae, tiny, out=Ae)
+            div(W.g2_0, Ae, Ae)
+            mul(Ae, sub(W.A0, W.A1, t1), Ae)
+            add(Ae, W.A1, Ae)
+        V_hi = div(G, Ae, W.V_hi)                     # the root lies below: mu >= 0
+        # cold weight at the end of the step, with a predicted speed
+        Vp = mul(mu0h, pf, W.Vp)
+        sub(G, Vp, Vp)
+        maximum(Vp, zero, out=Vp)
+        div(Vp, Ae, Vp)
+        np.copyto(Vp, V0, where=np.greater(V0, zero, W.pos))   # V0 where V0 > 0
+        E = mul(Vp, dt1, W.E)
+        add(E, s, E)
+        mul(E, neg_inv_s0, E)
+        np.exp(E, E)
+        V = minimum(Vp, V_hi, out=W.V)
+        maximum(V, v_floor, out=V)
+        table = self.table
+        for _ in range(self.n_newton - 1):
+            mu_c, mu_h, _, dmu_c, dmu_h = table.at_sliding(V, q)
+            AV = Ae * V
+            f = mu_c - mu_h
+            f *= E
+            f += mu_h
+            f *= pf
+            f += AV
+            f -= G
+            fp = dmu_c - dmu_h
+            fp *= E
+            fp += dmu_h
+            fp *= pf
+            fp += AV
+            maximum(fp, 0.1 * AV, out=fp)            # falling branch: damped step
+            step = np.clip(f / fp, -10.0, 10.0)
+            np.negative(step, out=step)
+            np.exp(step, out=step)
+            V *= step
+            minimum(V, V_hi, out=V)
+            maximum(V, v_floor, out=V)
+        # implicit solve with mu linearised at V: mu(V') ~ (pa + pb V') / p, eq. (28) blends
+        # of the table's slope (pb) and value (pa)
+        mu_c, mu_h, dT, dmu_c, dmu_h = table.at_sliding(V, q)
+        pb = sub(dmu_c, dmu_h, W.pb)
+        mul(pb, E, pb)
+        add(pb, dmu_h, pb)
+        mul(pb, div(pf, V, t1), pb)
+        maximum(pb, floor, out=pb)
+        pa = sub(mu_c, mu_h, W.pa)
+        mul(pa, E, pa)
+        add(pa, mu_h, pa)
+        mul(pa, pf, pa)
+        sub(pa, mul(pb, V, t1), pa)
+        B, B0, B1, D, D0, D1 = W.B, W.B0, W.B1, W.D, W.D0, W.D1
+        add(W.A0, pb, B0)
+        add(W.A1, pb, B1)
+        V = sub(G, pa, W.Vn)
+        if iso:
+            div(V, B0, V)
+        else:
+            mul(V, mul(G, G, t1), V)
+            mul(g2, B, t2)
+            den = add(W.t2_0, W.t2_1, W.den)
+            maximum(den, tiny, out=den)
+            div(V, den, V)
+            maximum(V, zero, out=V)
+            # one Newton step on |(B V + p a)^-1 g| = 1 (exact for pure slip along an axis)
+            add(mul(B0, V, D0), pa, D0)
+            add(mul(B1, V, D1), pa, D1)
+            maximum(D, d_floor, out=D)
+            r = mul(D, D, W.r)
+            div(g2, r, r)
+            qq = add(W.r0, W.r1, W.qq)
+            mul(r, B, r)
+            div(r, D, r)
+            dq = add(W.r0, W.r1, W.dq)
+            maximum(dq, tiny, out=dq)
+            corr = np.sqrt(qq, t1)
+            mul(corr, qq, corr)
+            sub(qq, corr, corr)
+            div(corr, dq, corr)
+            sub(V, corr, V)
+        maximum(V, zero, out=V)
+        mul(V, slide, V)
+        add(mul(B0, V, D0), pa, D0)
+        add(mul(B1, V, D1), pa, D1)
+        add(D, tiny, D)
+        div(V, D0, D0)
+        div(V, D1, D1)
+        mul(g, D, w)
+        # state update: u+ = u + dt (w+ - Vb); s+ = s + |w+| dt
+        rel = sub(w, Vb, W.rel)
+        add(u, mul(rel, dt, t2), u)
+        add(s, mul(V, dt1, t1), s)
+        minimum(s, s_max, out=s)
+        tau = mul(W.k, u, W.tau)
+        add(tau, mul(W.d, rel, t2), tau)
+        mul(pb, V, pb)
+        add(pb, pa, pb)
+        return tau, pb, V, E, dT

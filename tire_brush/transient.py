@@ -12,8 +12,12 @@ advance", as Project Chrono's tires do). The state:
   undeflected (at ``x = a`` rolling forwards, at ``x = -a`` rolling backwards); within the step
   it is integrated only for the time it has been in contact; outside the patch its state is
   zero. Each element follows the implicit step of :mod:`tire_brush.element` (stick, or slide
-  with eq. (28) friction, tip mass and damping). The patch size follows the load
-  (:class:`~tire_brush.params.PatchLaw`): more or fewer lattice elements are in contact.
+  with eq. (28) friction, tip mass and damping), run by
+  :class:`~tire_brush.element.LatticeStepper`, the fused form of
+  :func:`~tire_brush.element.element_step` (bit-identical, fewer numpy calls). The patch size
+  follows the load (:class:`~tire_brush.params.PatchLaw`): more or fewer lattice elements are
+  in contact. Only the contact slice is stored; :meth:`TransientBrushTire.get_state` returns
+  the whole lattice.
 * **Carcass compliance.** A massless belt on springs and dampers against the rim
   (:class:`~tire_brush.params.CarcassParams`); the belt velocity adds to the slip velocity of the
   element bases. The belt equilibrium is solved implicitly with the tread's response linearised
@@ -50,10 +54,9 @@ import numpy as np
 
 from lookup.errors import InputError
 
-from .element import CREEP_SPEED, ElementProps, StepCoefficients, element_step
+from .element import CREEP_SPEED, ElementProps, LatticeStepper
 from .friction import BranchTable, FrictionModel, as_table
 from .params import TireParams
-from .patch import parabolic_pressure
 from .slip import V_FLOOR, BrushOutputs, slip_from_kinematics
 
 #: Default number of elements on the patch at the nominal load.
@@ -64,6 +67,9 @@ DT_INTERNAL = 1e-3
 N_NEWTON_TRANSIENT = 1
 #: State format version (in :meth:`TransientBrushTire.get_state`).
 STATE_VERSION = 1
+#: Inputs of :meth:`TransientBrushTire.step`, in order, and the number types they accept.
+_INPUT_NAMES = ("dt", "vx", "vy", "omega", "Fz", "T_surface", "mu_scale")
+_NUMBER_TYPES = (int, float, np.floating, np.integer)
 
 
 class TransientBrushTire:
@@ -124,6 +130,7 @@ class TransientBrushTire:
         self.n_lattice = math.ceil(2.0 * self.a_max / self.dx) + 2
         self._offsets = np.arange(self.n_lattice) * self.dx
         self._void = 1.0 - params.tread.void_ratio
+        self._inv_void = 1.0 / self._void
         c = params.carcass
         self._kd = (float(self.props.k[0, 0]), float(self.props.k[1, 0]),
                     float(self.props.d[0, 0]), float(self.props.d[1, 0]))
@@ -131,13 +138,17 @@ class TransientBrushTire:
         self._dc = (c.d_x, c.d_y)
         th = params.thermal
         self._th = (th.heat_capacity, th.conductance, th.heat_fraction)
+        self._kernel = LatticeStepper(self.props, self.table, n_newton)
+        #: (Fz, a, b) of the last load seen: the patch size is a function of Fz only
+        self._size = (math.nan, 0.0, 0.0)
         self.reset()
 
     # -- state ------------------------------------------------------------------------------
     def reset(self, T_tread: float | None = None) -> None:
         """Undeflected tire at rest; the tread temperature starts at ``T_tread`` [K] (default:
         the first step's ``T_surface``)."""
-        self._S = np.zeros((5, self.n_lattice))
+        self._E = np.zeros((5, 0))
+        self._e0 = 0
         self._x_top = self.a_max
         self._delta = (0.0, 0.0)
         self._Vb = (0.0, 0.0)
@@ -149,7 +160,10 @@ class TransientBrushTire:
     def get_state(self) -> dict[str, np.ndarray | float | int]:
         """The full internal state (copies): element states, lattice phase, belt deflection
         and velocity, last tread force, tread temperature, time and the last outputs."""
-        return {"version": STATE_VERSION, "elements": self._S.copy(), "x_top": self._x_top,
+        S = np.zeros((5, self.n_lattice))
+        E, e0 = self._E, self._e0
+        S[:, e0:e0 + E.shape[1]] = E
+        return {"version": STATE_VERSION, "elements": S, "x_top": self._x_top,
                 "delta": np.array(self._delta), "Vb": np.array(self._Vb),
                 "F": np.array(self._F),
                 "T_tread": self._T_tread, "time": self._time, "outputs": self._out.copy()}
@@ -166,11 +180,11 @@ class TransientBrushTire:
             x_top, T_tread, time = (float(state[k]) for k in ("x_top", "T_tread", "time"))
         except (KeyError, TypeError, ValueError) as exc:
             raise InputError(f"not a state of this model ({exc!r})", field="state") from None
-        if version != STATE_VERSION or S.shape != self._S.shape or delta.shape != (2,) or \
+        if version != STATE_VERSION or S.shape != (5, self.n_lattice) or delta.shape != (2,) or \
                 Vb.shape != (2,) or F.shape != (2,) or out.shape != self._out.shape:
             raise InputError("state does not match this model (version or discretisation)",
                              field="state", value={"version": version, "elements": S.shape})
-        self._S, self._out = S, out
+        self._E, self._e0, self._out = S, 0, out
         self._delta = (float(delta[0]), float(delta[1]))
         self._Vb = (float(Vb[0]), float(Vb[1]))
         self._F = (float(F[0]), float(F[1]))
@@ -216,10 +230,15 @@ class TransientBrushTire:
             Forces and diagnostics at the end of the step.
         """
         vals = (dt, vx, vy, omega, Fz, T_surface, mu_scale)
-        names = ("dt", "vx", "vy", "omega", "Fz", "T_surface", "mu_scale")
-        for name, x in zip(names, vals, strict=True):
-            if not (isinstance(x, int | float | np.floating | np.integer) and math.isfinite(x)):
-                raise InputError("must be a finite number", field=name, value=x)
+        # fast path: seven Python floats with a finite sum are seven finite floats (a sum
+        # that overflows takes the per-input check, which then passes)
+        if not (type(dt) is float and type(vx) is float and type(vy) is float and
+                type(omega) is float and type(Fz) is float and type(T_surface) is float and
+                type(mu_scale) is float and math.isfinite(dt + vx + vy + omega + Fz + T_surface
+                                                          + mu_scale)):
+            for name, x in zip(_INPUT_NAMES, vals, strict=True):
+                if not (isinstance(x, _NUMBER_TYPES) and math.isfinite(x)):
+                    raise InputError("must be a finite number", field=name, value=x)
         if dt < 0 or T_surface <= 0 or mu_scale < 0:
             raise InputError("need dt >= 0 s, T_surface > 0 K and mu_scale >= 0",
                              field="step", value={"dt": dt, "T_surface": T_surface,
@@ -231,108 +250,129 @@ class TransientBrushTire:
         n_sub = max(1, math.ceil(dt / self.dt_internal - 1e-9))
         h = dt / n_sub
         Fz = max(float(Fz), 0.0)
-        V_r = float(omega) * self.params.R_e
-        Vs = np.array([float(vx) - V_r, float(vy)])
-        a, b = self.params.patch.size(Fz)
+        vx, vy, omega = float(vx), float(vy), float(omega)
+        T_surface, mu_scale = float(T_surface), float(mu_scale)
+        R_e = self.params.R_e
+        V_r = omega * R_e
+        Vs = (vx - V_r, vy)
+        if Fz != self._size[0]:
+            self._size = (Fz, *self.params.patch.size(Fz))
+        _, a, b = self._size
         last = None
         for _ in range(n_sub):
-            last = self._advance(h, Vs, V_r, Fz, a, b, float(T_surface), float(mu_scale))
+            last = self._advance(h, Vs, V_r, Fz, a, b, T_surface, mu_scale)
         self._time += dt
-        kappa, alpha = slip_from_kinematics(float(vx), float(vy), float(omega),
-                                            self.params.R_e, self.v_floor)
-        T0 = self._T_tread if self.thermal else float(T_surface)
-        self._out = self._outputs(last, Fz, kappa, alpha, T0)
-        return self.outputs
+        kappa, alpha = slip_from_kinematics(vx, vy, omega, R_e, self.v_floor)
+        T0 = self._T_tread if self.thermal else T_surface
+        out = self._outputs(last, Fz, kappa, alpha, T0)
+        self._out = np.array(out)
+        return BrushOutputs(*out)
 
-    def _advance(self, h: float, Vs: np.ndarray, V_r: float, Fz: float, a: float, b: float,
-                 T_surface: float, mu_scale: float) -> tuple | None:
+    def _advance(self, h: float, Vs: tuple[float, float], V_r: float, Fz: float, a: float,
+                 b: float, T_surface: float, mu_scale: float) -> tuple | None:
         """One internal step of length ``h`` [s] (module docstring)."""
-        S = self._S
         dx = self.dx
+        L = self.n_lattice
         # carry the lattice with the rolling speed; fresh (zero) elements fill in
         x_top = self._x_top - V_r * h
         shift = math.floor((x_top - self.a_max) / dx)
-        if shift:
-            n = abs(shift)
-            if n >= self.n_lattice:
-                S[...] = 0.0
-            elif shift < 0:
-                S[:, n:] = S[:, :-n]
-                S[:, :n] = 0.0
-            else:
-                S[:, :-n] = S[:, n:]
-                S[:, -n:] = 0.0
-            x_top -= shift * dx
+        x_top -= shift * dx
         self._x_top = x_top
         T0 = self._T_tread if self.thermal else T_surface
         area = b * dx
         # elements in contact, |x| < a, form the contiguous lattice slice i0:i1
         i0 = max(math.floor((x_top - a) / dx) + 1, 0)
-        i1 = min(math.ceil((x_top + a) / dx), self.n_lattice)
+        i1 = min(math.ceil((x_top + a) / dx), L)
         if i0 < i1 and x_top - i0 * dx >= a:
             i0 += 1
         if i0 < i1 and x_top - (i1 - 1) * dx <= -a:
             i1 -= 1
-        S[:, :i0] = 0.0
-        S[:, i1:] = 0.0
+        # the new contact slice: its elements moved by ``shift`` cells; every other lattice
+        # element is zero (fresh elements enter, elements that left the patch are cleared).
+        # Only the slice is stored: lattice columns e0:e0+n hold E, the rest are zero.
+        E_old, e0 = self._E, self._e0
         if not (a > 0.0 and area > 0.0 and i0 < i1):
-            S[...] = 0.0
+            self._E, self._e0 = np.zeros((5, 0)), 0
             self._relax_belt(h)
-            self._Vb = (float(Vs[0]), float(Vs[1]))
+            self._Vb = Vs
             self._F = (0.0, 0.0)
             self._heat(h, 0.0, T_surface)
             return None
-        E = S[:, i0:i1]                                    # view: updated in place
+        n = i1 - i0
+        E = np.zeros((5, n))
+        j0, j1 = max(i0, e0 - shift), min(i1, e0 + E_old.shape[1] - shift)
+        if j0 < j1:                                   # lattice columns with an element to carry
+            E[:, j0 - i0:j1 - i0] = E_old[:, j0 + shift - e0:j1 + shift - e0]
+        self._E, self._e0 = E, i0
         x = x_top - self._offsets[i0:i1]
-        # contact time within this step of elements that entered during it
+        # contact time within this step of elements that entered during it, as two equal
+        # rows (the x and y coefficients of the element step)
         if V_r != 0.0:
-            dt_e = (a - math.copysign(1.0, V_r) * x) * (1.0 / abs(V_r))
+            inv_vr = 1.0 / abs(V_r)
+            dt2 = np.empty((2, n))
+            dt_e = dt2[0]
+            if V_r > 0.0:
+                np.subtract(a, x, out=dt_e)
+                dt_min = (a - float(x[0])) * inv_vr      # the element nearest the edge
+            else:
+                np.add(a, x, out=dt_e)
+                dt_min = (a + float(x[-1])) * inv_vr
+            dt_e *= inv_vr
             np.minimum(dt_e, h, out=dt_e)
-            np.maximum(dt_e, 1e-12, out=dt_e)
-            co = StepCoefficients.build(self.props, dt_e)
+            if not (dt_min >= 1e-12 and h >= 1e-12):   # else the floor changes nothing
+                np.maximum(dt_e, 1e-12, out=dt_e)
+            dt2[1] = dt_e
         else:
-            co = StepCoefficients.build(self.props, h)
-        p = parabolic_pressure(x, a, Fz, area)
-        query = self.table.prepare(T0, p * (1.0 / self._void))
+            dt_e = dt2 = h
+        # parabolic pressure (:func:`~tire_brush.patch.parabolic_pressure`); |x| < a on the
+        # slice, so |x (1/a)| <= 1 after rounding too and 1 - x^2/a^2 >= 0 needs no clamp
+        p = x * (1.0 / a)
+        p *= p
+        np.subtract(1.0, p, out=p)
+        total = float(np.add.reduce(p))
+        if total > 0.0:
+            p *= Fz / (area * total)
+        query = self.table.prepare(T0, p * self._inv_void)
         V0 = np.hypot(E[2], E[3])
-        if self.rigid_carcass:
-            Vb = Vs[:, None]
-        else:
-            Vb = self._belt_velocity(h, Vs, co, V0, area)[:, None]
-        r = element_step(E, p * mu_scale, Vb, self.props, co, self.table, query,
-                         n_newton=self.n_newton, V0=V0)
-        self._Vb = (float(Vb[0, 0]), float(Vb[1, 0]))
-        F = r.tau.sum(axis=1)
-        self._F = (float(F[0]) * area, float(F[1]) * area)
+        Vb = Vs if self.rigid_carcass else self._belt_velocity(h, Vs, dt_e, V0, area)
+        Vb2 = np.empty((2, n))
+        Vb2[0].fill(Vb[0])
+        Vb2[1].fill(Vb[1])
+        pf = p if mu_scale == 1.0 else p * mu_scale    # p * 1.0 is p
+        tau, friction, speed, cold, dT = self._kernel.step(E, pf, Vb2, dt2, dt_e, query, V0)
+        self._Vb = (float(Vb[0]), float(Vb[1]))
+        F = np.add.reduce(tau, 1).tolist()
+        self._F = (F[0] * area, F[1] * area)
         if self.thermal:
-            self._heat(h, float(np.dot(r.friction, r.speed)) * area, T_surface)
-        return r, x, p, r.dT_flash, area
+            self._heat(h, float(np.dot(friction, speed)) * area, T_surface)
+        return tau, friction, speed, cold, x, p, dT, area
 
-    def _belt_velocity(self, h: float, Vs: np.ndarray, co: StepCoefficients, V0: np.ndarray,
-                       area: float) -> np.ndarray:
+    def _belt_velocity(self, h: float, Vs: tuple[float, float], dt: float | np.ndarray,
+                       V0: np.ndarray, area: float) -> tuple[float, float]:
         """Belt velocity over the step from its implicit equilibrium (module docstring).
 
         The tread force over the step is linearised about the last one, ``F_n``: a sticking
         element changes its stress by ``-k dt V_b - d (V_b - V_b,n)``, a sliding one keeps it,
         so ``F(V_b) = F_n + D V_b,n - J V_b`` with ``J = sum (k dt + d) dA`` and
-        ``D = sum d dA`` over the sticking elements.
+        ``D = sum d dA`` over the sticking elements. ``dt`` is the step of every element (a
+        float, or one per element for elements that entered during the step).
         """
-        n_stuck = float(np.count_nonzero(V0 == 0.0))
+        n_stuck = float(V0.size - np.count_nonzero(V0))  # V0 == 0 (NaN counts as moving)
         # elements that entered during the step (dt_e < h) are fresh, hence sticking
         dt_stuck = h * n_stuck
-        if np.ndim(co.dt):
-            dt_stuck -= h * V0.size - float(co.dt.sum())
+        if isinstance(dt, np.ndarray):
+            dt_stuck -= h * V0.size - float(np.add.reduce(dt))
         kx, ky, dx, dy = self._kd
         Dx, Dy = dx * n_stuck * area, dy * n_stuck * area
         Jx, Jy = kx * dt_stuck * area + Dx, ky * dt_stuck * area + Dy
         (Fx, Fy), (Vbx, Vby), (ex, ey) = self._F, self._Vb, self._delta
         kcx, kcy = self._kc
         dcx, dcy = self._dc
-        Vsx, Vsy = float(Vs[0]), float(Vs[1])
+        Vsx, Vsy = Vs
         ux = (Fx + Dx * Vbx - Jx * Vsx - kcx * ex) / (kcx * h + dcx + Jx)
         uy = (Fy + Dy * Vby - Jy * Vsy - kcy * ey) / (kcy * h + dcy + Jy)
         self._delta = (ex + h * ux, ey + h * uy)
-        return np.array([Vsx + ux, Vsy + uy])
+        return Vsx + ux, Vsy + uy
 
     def _relax_belt(self, h: float) -> None:
         """Belt without tread force: implicit relaxation towards zero deflection."""
@@ -350,17 +390,20 @@ class TransientBrushTire:
             1.0 + h * G / C)
 
     def _outputs(self, last: tuple | None, Fz: float, kappa: float, alpha: float,
-                 T0: float) -> np.ndarray:
-        """Output array (:data:`~tire_brush.slip.OUTPUT_UNITS` order) of the last sub-step."""
+                 T0: float) -> list[float]:
+        """Outputs (:data:`~tire_brush.slip.OUTPUT_UNITS` order) of the last sub-step."""
         if last is None:
-            return np.array([0.0, 0.0, 0.0, kappa, alpha, 0.0, 0.0, 0.0, 0.0, T0])
-        r, x, p, dT, area = last
+            return [0.0, 0.0, 0.0, kappa, alpha, 0.0, 0.0, 0.0, 0.0, T0]
+        tau, friction, speed, cold, x, p, dT, area = last
         F = self._F
-        Mz = float(np.dot(x, r.tau[1])) * area
-        sliding = r.speed > CREEP_SPEED
-        frac = float(sliding.sum()) / x.size
+        Mz = float(np.dot(x, tau[1])) * area
+        sliding = speed > CREEP_SPEED
+        frac = float(np.count_nonzero(sliding)) / x.size
         p_sl = float(np.dot(p, sliding))
-        mu_slide = float(np.dot(r.friction, sliding)) / p_sl if p_sl > 0 else 0.0
-        dT_max = float((dT * (1.0 - r.cold) * sliding).max())
+        mu_slide = float(np.dot(friction, sliding)) / p_sl if p_sl > 0 else 0.0
+        np.subtract(1.0, cold, out=cold)
+        cold *= dT
+        cold *= sliding
+        dT_max = float(np.maximum.reduce(cold))
         mu_eff = math.hypot(F[0], F[1]) / Fz if Fz > 0 else 0.0
-        return np.array([F[0], F[1], Mz, kappa, alpha, mu_eff, mu_slide, frac, dT_max, T0])
+        return [F[0], F[1], Mz, kappa, alpha, mu_eff, mu_slide, frac, dT_max, T0]
