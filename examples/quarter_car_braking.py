@@ -1,23 +1,27 @@
 """Quarter-car straight-line braking with the brush-tire FMU, driven step by step through fmpy.
 
-A small vehicle model written here in Python plays the vehicle simulator: at every 1 ms
-communication step it sends the wheel-centre speed, the wheel spin, the load and the road
-temperature to the FMU, takes one ``doStep``, reads the tire force and integrates
+A small vehicle model plays the vehicle simulator: at every 1 ms communication step it sends
+the wheel-centre speed, the wheel spin, the load and the road temperature to the FMU, takes one
+``doStep``, reads the tire force and integrates
 
 * the quarter-car body:  ``m dv/dt = Fx``  (no aerodynamic or rolling drag: the tire alone),
 * the wheel:             ``J domega/dt = -R_e Fx - T_b``  (``Fx < 0`` braking spins the wheel
   up; the brake torque ``T_b`` acts against the spin and holds a stopped wheel, so a locked
   wheel stays at ``omega = 0``),
 
-with a semi-implicit Euler step. The brake torque ramps from zero to ``--torque`` (default
-2500 N.m, beyond what the tire can transmit, so the wheel locks: the tread slides, reaches the
-hot branch of eq. (28) and the flash temperature rises). A lower ``--torque`` (e.g. 900 N.m)
-brakes without locking.
+with a semi-implicit Euler step. The loop is the library's :mod:`fmu_src.cosim`
+(:func:`~fmu_src.cosim.simulate_braking_fmu`); this script sets up the car and the brake and
+plots. The brake torque ramps from zero to ``--torque`` (default 2500 N.m, beyond what the tire
+can transmit, so the wheel locks: the tread slides, reaches the hot branch of eq. (28) and the
+flash temperature rises). A lower ``--torque`` (e.g. 900 N.m) brakes without locking;
+``--abs`` lets the rule-based ABS of :mod:`tire_brush.braking.abs_control` modulate the torque
+(up to ``--torque``) instead.
 
 Run (from the repository):
 
     python examples/quarter_car_braking.py -o braking.png
     python examples/quarter_car_braking.py --grid models/grids/default.nc --torque 900 -o b.png
+    python examples/quarter_car_braking.py --abs --torque 3000 -o abs.png
 
 The plot shows speed and wheel speed, slip, Fx (and mu_eff), and the flash-temperature rise
 with the tread temperature.
@@ -35,46 +39,41 @@ import numpy as np
 G = 9.81  # [m/s^2]
 
 
-def simulate(fmu: Path, *, mass: float, inertia: float, v0: float, torque: float,
-             ramp: tuple[float, float], T_road: float, dt: float = 1e-3,
-             t_max: float = 6.0) -> dict[str, np.ndarray]:
-    """Run the manoeuvre; returns time series (SI units) by name."""
+def _fmu_radius(fmu: Path) -> float:
+    """The FMU's effective rolling radius ``tire.R_e`` [m] (the car's wheel radius)."""
     import fmpy
-    from fmpy.fmi2 import FMU2Slave
 
     md = fmpy.read_model_description(str(fmu))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    R_e = float(next(v.start for v in md.modelVariables if v.name == "tire.R_e"))
-    unzipdir = fmpy.extract(str(fmu))
-    tire = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir,
-                     modelIdentifier=md.coSimulation.modelIdentifier, instanceName="front_left")
-    tire.instantiate()
-    tire.setupExperiment(startTime=0.0)
-    tire.enterInitializationMode()
-    vin = [vr[n] for n in ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale")]
-    names = ("Fx", "kappa", "mu_eff", "sliding_fraction", "dT_flash_max", "T_tread")
-    vout = [vr[n] for n in names]
-    Fz = mass * G
-    v, omega, t = v0, v0 / R_e, 0.0
-    tire.setReal(vin, [v, 0.0, omega, Fz, T_road, 1.0])
-    tire.exitInitializationMode()
-    rows = []
-    while t < t_max and v > 0.3:
-        T_b = torque * min(max((t - ramp[0]) / (ramp[1] - ramp[0]), 0.0), 1.0)
-        tire.setReal(vin, [v, 0.0, omega, Fz, T_road, 1.0])
-        tire.doStep(currentCommunicationPoint=t, communicationStepSize=dt)
-        y = dict(zip(names, tire.getReal(vout), strict=True))
-        t += dt
-        v += dt * y["Fx"] / mass
-        spun = omega - dt * R_e * y["Fx"] / inertia     # tire torque first
-        braked = dt * T_b / inertia                      # the brake can at most stop it
-        omega = spun - braked if spun > braked else 0.0
-        rows.append((t, v, omega * R_e, T_b, *y.values()))
-    tire.terminate()
-    tire.freeInstance()
-    cols = ("t", "v", "wheel_speed", "T_brake", *names)
-    data = {c: np.array([r[i] for r in rows]) for i, c in enumerate(cols)}
-    data["distance"] = np.cumsum(data["v"]) * dt
+    return float(next(v.start for v in md.modelVariables if v.name == "tire.R_e"))
+
+
+def simulate(fmu: Path, *, mass: float, inertia: float, v0: float, torque: float,
+             ramp: tuple[float, float], T_road: float, dt: float = 1e-3,
+             t_max: float = 6.0, use_abs: bool = False,
+             torque_rate: float = 20000.0) -> dict[str, np.ndarray]:
+    """Run the manoeuvre through :func:`fmu_src.cosim.simulate_braking_fmu`; returns time
+    series (SI units) by name (the state at the end of each step, from the start to the
+    stop at 0.3 m/s or ``t_max``)."""
+    from fmu_src.cosim import CosimSettings, simulate_braking_fmu
+    from tire_brush.braking.abs_control import ABSParams, RuleBasedABS, TorqueRamp
+    from tire_brush.braking.quarter_car import QuarterCar
+
+    R_e = _fmu_radius(fmu)
+    ramp_rate = torque / (ramp[1] - ramp[0]) if ramp[1] > ramp[0] else torque / dt
+    car = QuarterCar(mass=mass, wheel_inertia=inertia, radius=R_e,
+                     brake_torque_max=torque,
+                     brake_torque_rate_max=torque_rate if use_abs else ramp_rate, g=G,
+                     name="example")
+    if use_abs:
+        controller = RuleBasedABS(ABSParams(), R_e, car.brake_torque_rate_max)
+    else:
+        controller = TorqueRamp(torque, *ramp, rate_max=ramp_rate, control_period=dt)
+    res = simulate_braking_fmu(fmu, car, controller, v0, T_road, v_stop=0.3,
+                               settings=CosimSettings(step=dt, t_max=t_max, thermal="fmu"),
+                               instance_name="front_left")
+    data = res.histories()
+    data["T_brake"] = data["brake_torque"]
+    data["distance"] = data["x"]
     return data
 
 
@@ -122,6 +121,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--v0", type=float, default=100.0, help="initial speed [km/h]")
     ap.add_argument("--torque", type=float, default=2500.0, help="brake torque [N m]")
     ap.add_argument("--T-road", type=float, default=20.0, help="road temperature [Celsius]")
+    ap.add_argument("--abs", action="store_true",
+                    help="rule-based ABS (up to --torque) instead of the torque ramp")
     ap.add_argument("-o", "--output", default="quarter_car_braking.png", help="PNG file")
     args = ap.parse_args(argv)
 
@@ -132,7 +133,8 @@ def main(argv: list[str] | None = None) -> int:
 
             fmu = build_fmu(args.tire, args.grid, Path(tmp) / "BrushTire.fmu").path
         data = simulate(fmu, mass=args.mass, inertia=args.inertia, v0=args.v0 / 3.6,
-                        torque=args.torque, ramp=(0.1, 0.4), T_road=args.T_road + 273.15)
+                        torque=args.torque, ramp=(0.1, 0.4), T_road=args.T_road + 273.15,
+                        use_abs=args.abs)
     stop = data["t"][-1]
     print(f"braking from {args.v0:g} km/h with {args.torque:g} N.m: {data['distance'][-1]:.1f} m "
           f"to {3.6 * data['v'][-1]:.1f} km/h in {stop:.2f} s")
@@ -140,7 +142,8 @@ def main(argv: list[str] | None = None) -> int:
           f"{(args.v0 / 3.6 - data['v'][-1]) / stop / G:.3f} g, "
           f"max flash-temperature rise {data['dT_flash_max'].max():.1f} K, "
           f"tread {data['T_tread'][0] - 273.15:.1f} -> {data['T_tread'][-1] - 273.15:.2f} C")
-    title = (f"Quarter car, {args.mass:g} kg, {args.v0:g} km/h, brake torque ramp to "
+    brake = "rule-based ABS, torque up to" if args.abs else "brake torque ramp to"
+    title = (f"Quarter car, {args.mass:g} kg, {args.v0:g} km/h, {brake} "
              f"{args.torque:g} N.m (tire {args.tire}, grid {args.grid})")
     plot(data, Path(args.output), title)
     print(f"wrote {args.output}")

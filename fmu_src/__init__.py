@@ -10,7 +10,9 @@ One concern per module (as FMPy does it):
 * :mod:`fmu_src.package` -- the FMU's private copy of the modules it runs;
 * :mod:`fmu_src.model_description` -- post-processing of pythonfmu's modelDescription.xml;
 * :mod:`fmu_src.build` -- ``tire + grid -> BrushTire.fmu``; :mod:`fmu_src.cli` --
-  ``tirefric fmu build|info``.
+  ``tirefric fmu build|info``;
+* :mod:`fmu_src.cosim` -- the host's side: a quarter car braked through a built FMU with fmpy,
+  step by step (torque ramp, locked wheel or rule-based ABS), and the braking-study plug-in.
 
 The first four run inside the FMU (numpy and the standard library only); importing this
 package imports nothing.

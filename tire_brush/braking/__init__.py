@@ -8,17 +8,22 @@ Modules (imports stay lazy for scipy/casadi/matplotlib where they are heavy):
 - :mod:`.quarter_car`: quarter-car parameters and equations of motion.
 - :mod:`.ocp`: minimum-stopping-distance optimal control (direct collocation, IPOPT).
 - :mod:`.slip_map`: slip of maximum braking force vs speed, load, temperature; CSV export.
-- :mod:`.abs_control`, :mod:`.simulation`: rule-based ABS, locked wheel, fixed-step
-  simulation.
+- :mod:`.abs_control`, :mod:`.simulation`: rule-based ABS, locked wheel, torque ramp,
+  fixed-step simulation.
 - :mod:`.friction`: friction sources (analytic curves; the brush tire on a grid).
 - :mod:`.study`, :mod:`.cli`: study runner and ``tirefric abs study``.
 """
 
-from .abs_control import ABSParams, LockedWheel, RuleBasedABS
+from .abs_control import ABSParams, LockedWheel, RuleBasedABS, TorqueRamp
 from .force_map import ForceMap, default_axes
 from .friction import Case, FrictionSource, make_friction_source, register_friction_source
 from .ocp import OCPResult, OCPSettings, solve_braking_ocp
-from .quarter_car import QuarterCar, ThermalParams, load_quarter_car
+from .quarter_car import (
+    QuarterCar,
+    ThermalParams,
+    load_quarter_car,
+    tread_temperature_rise_bound,
+)
 from .reference import Burckhardt, MagicFormula, point_mass_stopping_distance
 from .simulation import SimResult, SimSettings, simulate_braking
 from .slip_map import SlipMap, optimal_slip
@@ -26,7 +31,8 @@ from .slip_map import SlipMap, optimal_slip
 __all__ = [
     "ABSParams", "Burckhardt", "Case", "ForceMap", "FrictionSource", "LockedWheel",
     "MagicFormula", "OCPResult", "OCPSettings", "QuarterCar", "RuleBasedABS", "SimResult",
-    "SimSettings", "SlipMap", "ThermalParams", "default_axes", "load_quarter_car",
-    "make_friction_source", "optimal_slip", "point_mass_stopping_distance",
-    "register_friction_source", "simulate_braking", "solve_braking_ocp",
+    "SimSettings", "SlipMap", "ThermalParams", "TorqueRamp", "default_axes",
+    "load_quarter_car", "make_friction_source", "optimal_slip",
+    "point_mass_stopping_distance", "register_friction_source", "simulate_braking",
+    "solve_braking_ocp", "tread_temperature_rise_bound",
 ]

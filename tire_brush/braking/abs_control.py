@@ -30,7 +30,15 @@ asphalt, measured), so the slip threshold is the release criterion and ``-a`` li
 build-up. The default thresholds were chosen by a sweep on the Burckhardt (dry, wet asphalt,
 snow) and Magic Formula (dry, wet) curves from 100 km/h with the shipped passenger quarter car:
 the stopping distance then stays within 3 to 7 % of the point-mass bound on all five. They are
-a calibration, like a production ABS's: other tires and vehicles may want others.
+a calibration, like a production ABS's: other tires and vehicles may want others. A fixed
+slip threshold does not carry over to a tire whose mu-slip curve peaks at a much smaller slip
+and falls steeply beyond it (the brush tire on the default grid at 0 C: peak at 6 % slip, 25 %
+less friction at 10 %); ``slip_schedule`` then sets the release slip per speed from the slip
+map of the tire and road (:func:`tire_brush.braking.study.abs_slip_schedule`), which is how
+production calibrations are made per tire and road.
+
+An open-loop :class:`TorqueRamp` (constant or ramped torque, no ABS) serves manoeuvres such as
+the FMU example's.
 
 Sensing is idealised and sampled: the controller reads the wheel speed every control period,
 estimates the wheel's peripheral acceleration ``R d omega / dt`` by the backward difference of
@@ -40,7 +48,10 @@ estimate it from the wheel speeds).
 
 from __future__ import annotations
 
+import bisect
+import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -122,14 +133,43 @@ class RuleBasedABS:
         Wheel rolling radius [m] (peripheral acceleration ``R d omega / dt``).
     rate_max
         Full brake torque rate [N m/s].
+    slip_schedule
+        Release slip as a function of the vehicle speed: ``(speeds [m/s], slips [1])``,
+        interpolated linearly (e.g. the slip of maximum force from the case's slip map,
+        :func:`.study.abs_slip_schedule`); None uses ``params.slip_threshold`` at all
+        speeds. A slip of 1 never releases (a locked wheel brakes best there).
     """
 
-    def __init__(self, params: ABSParams, radius: float, rate_max: float) -> None:
+    def __init__(self, params: ABSParams, radius: float, rate_max: float, *,
+                 slip_schedule: tuple[Sequence[float], Sequence[float]] | None = None) -> None:
         self.params = params
         self.radius = radius
         self.rate_max = rate_max
         self.control_period = params.control_period
+        self.slip_schedule = None
+        if slip_schedule is not None:
+            speeds, slips = (tuple(float(x) for x in a) for a in slip_schedule)
+            if len(speeds) != len(slips) or not speeds or \
+                    any(b <= a for a, b in itertools.pairwise(speeds)) or \
+                    not all(0.0 < s <= 1.0 for s in slips):
+                raise InputError("need ascending speeds [m/s] and slips in (0, 1], one per "
+                                 "speed", field="abs.slip_schedule", value=slip_schedule)
+            self.slip_schedule = (speeds, slips)
         self.reset()
+
+    def slip_threshold(self, v: float) -> float:
+        """Release slip [1] at vehicle speed ``v`` [m/s]: the schedule interpolated linearly
+        in ``v`` (held constant beyond its ends), else ``params.slip_threshold``."""
+        if self.slip_schedule is None:
+            return self.params.slip_threshold
+        speeds, slips = self.slip_schedule
+        i = bisect.bisect_right(speeds, v)
+        if i == 0:
+            return slips[0]
+        if i == len(speeds):
+            return slips[-1]
+        w = (v - speeds[i - 1]) / (speeds[i] - speeds[i - 1])
+        return slips[i - 1] + w * (slips[i] - slips[i - 1])
 
     def reset(self) -> None:
         """Start a stop in APPLY with no wheel-speed history."""
@@ -149,8 +189,9 @@ class RuleBasedABS:
             self.radius * (omega - self._omega_prev) / self.control_period)
         self._omega_prev = omega
         s = (v - omega * self.radius) / v          # slip magnitude, > 0 in braking
+        s_max = self.slip_threshold(v)
         ph = self._phase
-        if s > p.slip_threshold and ph in (APPLY, HOLD, REAPPLY, BOOST):
+        if s > s_max and ph in (APPLY, HOLD, REAPPLY, BOOST):
             ph = RELEASE
         elif ph in (APPLY, REAPPLY) and a_w < -p.decel_threshold:
             ph = HOLD
@@ -163,7 +204,7 @@ class RuleBasedABS:
             if a_w > p.accel_threshold_high:
                 ph = BOOST
             elif a_w < p.accel_threshold:
-                ph = RELEASE if s > p.slip_threshold else REAPPLY
+                ph = RELEASE if s > s_max else REAPPLY
         elif ph == BOOST and a_w < p.accel_threshold_high:
             ph = HOLD_RECOVER
         self._phase = ph
@@ -174,6 +215,66 @@ class RuleBasedABS:
         if ph == RELEASE:
             return -self.rate_max
         return 0.0
+
+
+class TorqueRamp:
+    """Open-loop brake torque: zero until ``t_start``, a linear ramp to ``torque`` reached at
+    ``t_end``, then constant (``t_end == t_start`` is a step). No ABS.
+
+    The commanded rate makes the torque follow the ramp exactly at the samples: at a sample
+    at ``t`` it is ``(T(t + Tc) - T_b) / Tc`` with ``T`` the ramp and ``Tc`` the control
+    period, bounded by the full rate ``rate_max``.
+
+    Parameters
+    ----------
+    torque
+        Final brake torque [N m], >= 0.
+    t_start, t_end
+        Start and end of the ramp [s], ``0 <= t_start <= t_end``.
+    rate_max
+        Full brake torque rate [N m/s] (the actuator limit).
+    control_period
+        Sample time [s].
+    """
+
+    def __init__(self, torque: float, t_start: float = 0.0, t_end: float = 0.0, *,
+                 rate_max: float = math.inf, control_period: float = 0.001) -> None:
+        for name, val in (("torque", torque), ("t_start", t_start), ("t_end", t_end)):
+            if not (math.isfinite(val) and val >= 0):
+                raise InputError("must be a finite number >= 0", field=f"ramp.{name}",
+                                 value=val)
+        if t_end < t_start:
+            raise InputError("the ramp must end after it starts", field="ramp.t_end",
+                             value=(t_start, t_end))
+        if not (rate_max > 0 and control_period > 0 and math.isfinite(control_period)):
+            raise InputError("need rate_max > 0 and a finite control_period > 0",
+                             field="ramp", value=(rate_max, control_period))
+        self.torque = float(torque)
+        self.t_start = float(t_start)
+        self.t_end = float(t_end)
+        self.rate_max = float(rate_max)
+        self.control_period = float(control_period)
+
+    def reset(self) -> None:
+        """Nothing to forget."""
+
+    @property
+    def phase(self) -> int:
+        """Always APPLY."""
+        return APPLY
+
+    def target(self, t: float) -> float:
+        """Ramp torque at time ``t`` [N m]."""
+        if t <= self.t_start:
+            return 0.0
+        if t >= self.t_end:
+            return self.torque
+        return self.torque * (t - self.t_start) / (self.t_end - self.t_start)
+
+    def torque_rate(self, t: float, v: float, omega: float, brake_torque: float) -> float:
+        """Rate that reaches the ramp at the next sample, within the actuator limit."""
+        rate = (self.target(t + self.control_period) - brake_torque) / self.control_period
+        return min(max(rate, -self.rate_max), self.rate_max)
 
 
 class LockedWheel:

@@ -38,7 +38,8 @@ def _run_study(args: argparse.Namespace) -> int:
 
     spec = load_study(args.spec)
     progress = None if args.json else (lambda msg: print(f"# {msg}", file=sys.stderr))
-    results = run_study(spec, scheduler=args.scheduler, progress=progress)
+    results = run_study(spec, scheduler=args.scheduler, progress=progress,
+                        work_dir=args.output)
     doc = write_results(spec, results, args.output, plots=not args.no_plots,
                         spec_path=args.spec)
     if args.json:
@@ -47,5 +48,8 @@ def _run_study(args: argparse.Namespace) -> int:
         print(f"# study {spec.name}: {len(results)} case(s), v0 = {spec.v0:g} m/s to "
               f"v_stop = {spec.v_stop:g} m/s; distances [m], slip [1]; written to "
               f"{args.output}")
-        print_table([r.summary for r in results], SUMMARY_KEYS)
+        keys = SUMMARY_KEYS
+        if spec.fmu_abs:
+            keys = (*SUMMARY_KEYS[:3], "stopping_distance_abs_fmu", *SUMMARY_KEYS[3:])
+        print_table([r.summary for r in results], keys)
     return 0

@@ -19,6 +19,7 @@ and the folder of the study file (for relative paths), and returns a :class:`Fri
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -80,11 +81,15 @@ class FrictionSource:
         One-line description (written into the slip-map CSV and the results).
     provenance : dict
         Parameters behind it (JSON-serialisable), written into the results.
+    temperature_dependent : bool
+        Whether the friction depends on the temperature argument (if not, the study's force
+        map needs no temperature nodes beyond the case temperature).
     """
 
     fx_over_fz: FxOverFz
     label: str
     provenance: dict = field(default_factory=dict)
+    temperature_dependent: bool = True
 
 
 FrictionFactory = Callable[[Mapping[str, Any], Case, Path], FrictionSource]
@@ -143,7 +148,8 @@ def analytic_source(settings: Mapping[str, Any], case: Case, base_dir: Path) -> 
     if case.compound:
         raise InputError("analytic friction has no compounds: leave cases.compounds empty",
                          field="cases.compounds", value=case.compound)
-    return FrictionSource(curve, f"analytic {model}, road {case.road}", prov)
+    return FrictionSource(curve, f"analytic {model}, road {case.road}", prov,
+                          temperature_dependent=False)
 
 
 def _number(settings: Mapping[str, Any], key: str, default: float) -> float:
@@ -200,12 +206,56 @@ def brush_fx_over_fz(steady_state: Callable, params: Any, friction: Any, *,
     return fx_over_fz
 
 
+#: Cells of the steady brush per blending length ``s0`` (:func:`steady_cells`).
+CELLS_PER_S0 = 3
+
+
+def steady_cells(params: Any, s0: float) -> int:
+    """Cells along the patch of the steady brush that resolve the blending length of eq. (28).
+
+    An element that starts to slide goes from cold to hot friction within a sliding distance
+    ``s0`` (0.2 mm on the default grid). A cell is one element step, so a cell much longer
+    than ``s0`` skips that transition and the peak of the mu-slip curve comes out too high.
+    Measured on the default grid (passenger tire, 20 C, 4 m/s, kappa = -0.2: ``-Fx/Fz`` by
+    cells ``n``, cell length ``dx = 2 a / n`` at 4.4 kN)::
+
+        n       64     256    1024   2048   4096
+        dx/s0   10.3   2.6    0.64   0.32   0.16
+        -Fx/Fz  1.48   1.45   1.35   1.32   1.30
+
+    ``dx <= s0 / 3`` (:data:`CELLS_PER_S0`) keeps the force within ~1 % of the 4096-cell
+    value: ``n = ceil(CELLS_PER_S0 * 2 a(Fz_nom) / s0)``, at least the steady model's default.
+    """
+    from tire_brush.steady import N_STEADY
+
+    a, _ = params.patch.size(params.Fz_nom)
+    return max(N_STEADY, math.ceil(CELLS_PER_S0 * 2.0 * a / s0))
+
+
+def brush_inputs(settings: Mapping[str, Any], case: Case, base_dir: Path) -> tuple[str, str]:
+    """Tire and grid names (or files, relative to the study) of ``case`` for the brush source.
+
+    ``{compound}`` and ``{road}`` in the ``grid`` setting are replaced by the case's.
+    """
+
+    def local(name: str) -> str:
+        p = Path(name)
+        return str(base_dir / p) if not p.is_absolute() and (base_dir / p).is_file() else name
+
+    tire_name = local(str(settings.get("tire", "passenger")))
+    grid_name = local(str(settings.get("grid", "default")).format(compound=case.compound,
+                                                                  road=case.road))
+    return tire_name, grid_name
+
+
 def brush_source(settings: Mapping[str, Any], case: Case, base_dir: Path) -> FrictionSource:
     """The brush tire (issue 4) on the grid of ``case.compound`` on ``case.road``.
 
     Settings: ``tire`` (TOML file or shipped name, default ``passenger``) and ``grid`` (file
     or shipped grid name, default ``default``) in which ``{compound}`` and ``{road}`` are
-    replaced by the case's. Relative paths are taken relative to the study file. The grid's
+    replaced by the case's (:func:`brush_inputs`). Relative paths are taken relative to the
+    study file. ``n_elements``: cells along the patch of the steady model, default
+    :func:`steady_cells` (resolves the blending length ``s0`` of the grid). The grid's
     metadata names its compound and surface (``compound_name``, ``surface_name``); a case
     whose compound or road differs is refused, so a label can never stand for physics that was
     not computed. Uses ``tire_brush.params.load_tire``, ``lookup.grid.load_grid`` and
@@ -215,13 +265,7 @@ def brush_source(settings: Mapping[str, Any], case: Case, base_dir: Path) -> Fri
     from tire_brush.params import load_tire
     from tire_brush.steady import SteadyBrush
 
-    def local(name: str) -> str:
-        p = Path(name)
-        return str(base_dir / p) if not p.is_absolute() and (base_dir / p).is_file() else name
-
-    tire_name = local(str(settings.get("tire", "passenger")))
-    grid_name = local(str(settings.get("grid", "default")).format(compound=case.compound,
-                                                                  road=case.road))
+    tire_name, grid_name = brush_inputs(settings, case, base_dir)
     params = load_tire(tire_name)
     grid = load_grid(grid_name)
     meta = getattr(grid, "meta", {})
@@ -232,12 +276,18 @@ def brush_source(settings: Mapping[str, Any], case: Case, base_dir: Path) -> Fri
             raise InputError(f"grid '{grid_name}' was built for {what} '{have}', not "
                              f"'{want}' (use '{{{what}}}' in friction.grid to pick a grid "
                              "per case)", field=f"cases.{what}s", value=want)
+    if "n_elements" in settings:
+        n = settings["n_elements"]
+        if isinstance(n, bool) or not isinstance(n, int) or n < 2:
+            raise InputError("must be an integer >= 2", field="friction.n_elements", value=n)
+    else:
+        n = steady_cells(params, float(grid.s0_m))
     prov = {"model": "brush", "tire": tire_name, "grid": grid_name,
             "compound": case.compound, "road": case.road,
-            "grid_hash": str(meta.get("hash", "")),
+            "grid_hash": str(meta.get("hash", "")), "n_elements": n,
             "tire_params": getattr(params, "describe", dict)()}
-    return FrictionSource(SteadyBrush(params, grid).fx_over_fz,
-                          f"brush tire {tire_name} on grid {grid_name}", prov)
+    return FrictionSource(SteadyBrush(params, grid, n_elements=n).fx_over_fz,
+                          f"brush tire {tire_name} on grid {grid_name} ({n} cells)", prov)
 
 
-register_friction_source("brush", brush_source, ("tire", "grid"))
+register_friction_source("brush", brush_source, ("tire", "grid", "n_elements"))

@@ -24,7 +24,11 @@ snow): the default 1e-4 changes the distance by less than 1e-7 relative to no pe
 IPOPT needs fewer iterations (47 instead of 68 on dry asphalt).
 
 Initial guess: constant deceleration ``g mu*`` at the map's optimal slip ``kappa*`` at v0 (the
-slip map), brake torque ramped at the rate limit to the torque that holds ``kappa*``.
+slip map), brake torque ramped at the rate limit to the torque that holds ``kappa*``; or a
+simulated stop (``initial_guess``, e.g. the locked wheel), which satisfies the dynamics and the
+bounds. With the tread temperature as a state the problem can have several local optima
+(braking at the peak of a cold tire, or sliding to warm a tread whose friction rises with
+temperature); :func:`tire_brush.braking.study.solve_ocp_from_starts` starts from both.
 """
 
 from __future__ import annotations
@@ -32,6 +36,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -169,6 +174,7 @@ def solve_braking_ocp(
     brake_torque_initial: float = 0.0,
     verbose: bool = False,
     ipopt_options: dict | None = None,
+    initial_guess: Any = None,
 ) -> OCPResult:
     """Solve the minimum-stopping-distance problem (module doc) with IPOPT.
 
@@ -190,6 +196,13 @@ def solve_braking_ocp(
         Print IPOPT's iteration log.
     ipopt_options
         Extra IPOPT options (``{"ipopt.mu_strategy": "adaptive"}``, ...).
+    initial_guess
+        A simulated stop of the same car on the same map (a :class:`.simulation.SimResult`:
+        ``t``, ``x``, ``v``, ``omega``, ``brake_torque``, ``T_tread``, ``stop_time``) to
+        start from instead of the constant-deceleration guess (module doc). It satisfies the
+        dynamics and the bounds, which a rough friction map (a glassy compound's stick-slip
+        branches) needs: from the constant-deceleration guess IPOPT can end in restoration
+        failures there.
 
     Raises
     ------
@@ -295,11 +308,32 @@ def solve_braking_ocp(
         rows = [x, v, w, Tb] + ([np.full_like(t, T_ambient)] if thermal else [])
         return np.vstack(rows) / sx[:, None]
 
-    opti.set_initial(Z, guess(tg))
-    opti.set_initial(Zc, guess(tcg))
-    ramp = np.clip((Tb_ss - brake_torque_initial) / u_max - tg[:-1], 0, tf_guess / N) * N / tf_guess
-    opti.set_initial(W, ramp[None, :])
-    opti.set_initial(tf, tf_guess)
+    if initial_guess is None:
+        opti.set_initial(Z, guess(tg))
+        opti.set_initial(Zc, guess(tcg))
+        ramp = np.clip((Tb_ss - brake_torque_initial) / u_max - tg[:-1], 0,
+                       tf_guess / N) * N / tf_guess
+        opti.set_initial(W, ramp[None, :])
+        opti.set_initial(tf, tf_guess)
+    else:
+        g = initial_guess
+        tf_sim = float(g.stop_time)
+        if not 0.2 * tf_guess < tf_sim < 5.0 * tf_guess:
+            raise InputError("the initial guess' stop time is outside the OCP's bounds on t_f",
+                             field="initial_guess", value=tf_sim)
+        cols = [g.x, g.v, g.omega, g.brake_torque] + ([g.T_tread] if thermal else [])
+
+        def sampled(t):
+            return np.vstack([np.interp(t, g.t, c) for c in cols]) / sx[:, None]
+
+        tg = np.linspace(0.0, tf_sim, N + 1)
+        tcg = (np.arange(N)[:, None] + np.polynomial.legendre.leggauss(d)[0][None, :] * 0.5
+               + 0.5).ravel() * tf_sim / N
+        opti.set_initial(Z, sampled(tg))
+        opti.set_initial(Zc, sampled(tcg))
+        Tb = np.interp(tg, g.t, g.brake_torque)
+        opti.set_initial(W, np.clip(np.diff(Tb) / (tf_sim / N) / u_max, -1, 1)[None, :])
+        opti.set_initial(tf, tf_sim)
 
     opts = {"ipopt.print_level": 5 if verbose else 0, "print_time": False,
             "ipopt.sb": "yes", "ipopt.tol": settings.tol, "ipopt.max_iter": settings.max_iter,

@@ -12,11 +12,14 @@ if TYPE_CHECKING:
     from .study import CaseResult
 
 STYLE = {"ocp": ("OCP (optimal)", "C0"), "abs": ("rule-based ABS", "C1"),
-         "locked": ("locked wheel", "C3")}
+         "locked": ("locked wheel", "C3"), "abs_fmu": ("rule-based ABS through the FMU", "C2")}
 
 
 def _runs(r: CaseResult):
-    return (("ocp", r.ocp), ("abs", r.abs_sim), ("locked", r.locked))
+    runs = [("ocp", r.ocp), ("abs", r.abs_sim), ("locked", r.locked)]
+    if r.abs_fmu is not None:
+        runs.append(("abs_fmu", r.abs_fmu))
+    return tuple(runs)
 
 
 def plot_time_histories(r: CaseResult, path: str | Path) -> Path:
@@ -43,9 +46,11 @@ def plot_time_histories(r: CaseResult, path: str | Path) -> Path:
     ax[0].legend(fontsize=8)
     ax[1].legend(fontsize=8)
     s = r.summary
+    fmu = "" if r.abs_fmu is None else \
+        f",\nrule-based ABS through the FMU {s['stopping_distance_abs_fmu']:.2f} m"
     fig.suptitle(f"{s['case']}: stopping distance OCP {s['stopping_distance_ocp']:.2f} m, "
                  f"ABS {s['stopping_distance_abs']:.2f} m, locked "
-                 f"{s['stopping_distance_locked']:.2f} m", fontsize=10)
+                 f"{s['stopping_distance_locked']:.2f} m{fmu}", fontsize=10)
     fig.savefig(path, dpi=110)
     return Path(path)
 
@@ -64,9 +69,10 @@ def plot_mu_slip(r: CaseResult, path: str | Path) -> Path:
     # locked first, OCP last: the optimal operating points stay visible on top
     for name, res in reversed(_runs(r)):
         lab, col = STYLE[name]
-        ms = {"ocp": 7, "abs": 4, "locked": 9}[name]
+        ms = {"ocp": 7, "abs": 4, "locked": 9, "abs_fmu": 3}[name]
         ax.plot(-res.kappa, -res.mu, "o", ms=ms, mfc="none" if name != "ocp" else col,
-                mec=col, alpha=0.6 if name == "abs" else 0.9, label=f"{lab} operating points")
+                mec=col, alpha=0.6 if name in ("abs", "abs_fmu") else 0.9,
+                label=f"{lab} operating points")
     ax.axvline(-s["optimal_slip"], color="k", ls="--", lw=0.8,
                label=f"slip of max force at v0: {-s['optimal_slip']:.3f}")
     ax.set_xlabel("braking slip -kappa [1]")
@@ -80,19 +86,26 @@ def plot_mu_slip(r: CaseResult, path: str | Path) -> Path:
 
 
 def plot_distances(results: list[CaseResult], path: str | Path) -> Path:
-    """Stopping distances by case: OCP, ABS, locked wheel and the point-mass bound."""
+    """Stopping distances by case: OCP, ABS, locked wheel, the ABS through the FMU (when
+    the study ran it) and the point-mass bound of the OCP's tread temperatures."""
     labels = [r.case.label for r in results]
     x = np.arange(len(results))
-    fig = Figure(figsize=(max(6, 1.6 * len(results) + 2), 4.5), layout="constrained")
+    bars = [("ocp", "stopping_distance_ocp"), ("abs", "stopping_distance_abs"),
+            ("locked", "stopping_distance_locked")]
+    if any(r.abs_fmu is not None for r in results):
+        bars.insert(2, ("abs_fmu", "stopping_distance_abs_fmu"))
+    fig = Figure(figsize=(max(6, 1.8 * len(results) + 2), 4.5), layout="constrained")
     ax = fig.subplots()
-    w = 0.26
-    for i, (name, key) in enumerate((("ocp", "stopping_distance_ocp"),
-                                     ("abs", "stopping_distance_abs"),
-                                     ("locked", "stopping_distance_locked"))):
+    w = 0.8 / len(bars)
+    for i, (name, key) in enumerate(bars):
         lab, col = STYLE[name]
-        ax.bar(x + (i - 1) * w, [r.summary[key] for r in results], w, color=col, label=lab)
-    ax.scatter(x - w, [r.summary["point_mass_bound"] for r in results], marker="_", s=400,
-               color="k", zorder=3, label="point-mass bound")
+        ax.bar(x + (i - (len(bars) - 1) / 2) * w, [r.summary[key] for r in results], w,
+               color=col, label=lab)
+    x_ocp = x - (len(bars) - 1) / 2 * w
+    ax.scatter(x_ocp, [r.summary["point_mass_bound"] for r in results], marker="_", s=400,
+               color="k", zorder=3, label="point-mass bound, OCP's tread temperatures")
+    ax.scatter(x_ocp, [r.summary.get("point_mass_bound_T0", np.nan) for r in results],
+               marker="_", s=400, color="0.6", zorder=3, label="point-mass bound at T0")
     ax.set_xticks(x, labels, rotation=20, ha="right", fontsize=8)
     ax.set_ylabel("stopping distance to v_stop [m]")
     ax.legend(fontsize=8)

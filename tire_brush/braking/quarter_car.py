@@ -184,3 +184,18 @@ def rhs(car: QuarterCar, mu, v, omega, T_b, u, T_tread, T_ambient: float):
         power = Fx * (omega * car.radius - v)
         dT = (th.heat_fraction * power - th.cooling * (T_tread - T_ambient)) / th.heat_capacity
     return dx, dv, domega, u, dT
+
+
+def tread_temperature_rise_bound(car: QuarterCar, v0: float) -> float:
+    """Largest tread-temperature rise a stop from ``v0`` [m/s] can cause [K].
+
+    The friction work in the contact, ``int Fx (omega R - v) dt``, is at most the kinetic
+    energy the stop removes, ``E = m v0^2 / 2 + J (v0 / R)^2 / 2`` (the brake dissipates
+    the rest); the tread receives the fraction ``eta`` of it and cooling only lowers the
+    temperature: ``dT <= eta E / C``. Zero without the thermal state.
+    """
+    th = car.thermal
+    if th is None:
+        return 0.0
+    energy = 0.5 * car.mass * v0**2 + 0.5 * car.wheel_inertia * (v0 / car.radius) ** 2
+    return th.heat_fraction * energy / th.heat_capacity

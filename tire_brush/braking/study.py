@@ -4,20 +4,29 @@ A study spec (TOML, e.g. ``models/studies/abs_analytic.toml``) names the quarter
 friction source, the cases and the settings. For each case the runner
 
 1. builds the friction source (:mod:`.friction`) and tabulates it into a B-spline force map
-   (:mod:`.force_map`) over slip, speed, load and temperature;
-2. computes the optimal slip map (:mod:`.slip_map`) and the point-mass bound
+   (:mod:`.force_map`) over slip, speed, load and temperature. With the thermal state on, the
+   temperature axis reaches up to the largest tread-temperature rise a stop can cause
+   (:func:`case_temperatures`), so no strategy reads a frozen edge of the map;
+2. computes the optimal slip map (:mod:`.slip_map`) and point-mass bounds
    ``int_{v_stop}^{v0} v / (g mu_max(v)) dv`` (``v0^2 / (2 g mu_max)`` for a speed-independent
-   peak) at the static load and the case temperature. It bounds every stop only while the
-   tread stays at that temperature: with the thermal state on and a temperature-dependent
-   map, a warming tread can raise friction and the OCP can end below it;
+   peak) at the static load, with ``mu_max(v)`` the peak friction maximised over a range of
+   tread temperatures (a warming tread changes the friction): ``point_mass_bound`` over the
+   temperatures the OCP's tread passes through (the OCP cannot beat it),
+   ``point_mass_bound_T0`` at the case temperature (the isothermal bound), and
+   ``point_mass_bound_reachable`` over every temperature a stop can reach (bounds every
+   strategy);
 3. solves the minimum-distance OCP (:mod:`.ocp`) and simulates the rule-based ABS and the
    locked wheel (:mod:`.simulation`) on the same quarter car with the same force map, so the
-   three stopping distances compare on identical physics;
+   three stopping distances compare on identical physics. With ``[abs] slip_threshold =
+   "slip_map"`` the ABS releases at the case's optimal slip per speed
+   (:func:`abs_slip_schedule`). With ``[study] fmu_abs = true`` the same ABS also brakes the
+   car through the brush-tire FMU (the transient model), by the plug-in registered as
+   ``fmu`` in the entry-point group :data:`SIMULATOR_GROUP` (``stopping_distance_abs_fmu``);
 4. returns a :class:`CaseResult`; :func:`write_results` writes the table (CSV, JSON), the
    trajectories, the slip maps and the plots.
 
 Cases run one after the other, or on a Dask cluster when a scheduler address is given (each
-case is one task; the spec and the case are plain picklable data).
+case is one task; the spec, the case and the FMU simulator are plain picklable data).
 """
 
 from __future__ import annotations
@@ -41,7 +50,7 @@ from .abs_control import PHASES, ABSParams, LockedWheel, RuleBasedABS
 from .force_map import ForceMap, default_axes
 from .friction import FRICTION_KEYS, FRICTION_SOURCES, Case, make_friction_source
 from .ocp import OCPResult, OCPSettings, solve_braking_ocp
-from .quarter_car import QuarterCar, load_quarter_car
+from .quarter_car import QuarterCar, load_quarter_car, tread_temperature_rise_bound
 from .simulation import SimResult, SimSettings, simulate_braking
 from .slip_map import SlipMap, optimal_slip
 
@@ -52,7 +61,17 @@ RESULT_KEYS = (
     "optimal_slip", "point_mass_bound", "mu_max", "mu_locked", "ocp_mean_slip",
     "stop_time_ocp", "stop_time_abs", "stop_time_locked", "ocp_solve_time_s",
     "ocp_iterations", "map_build_time_s", "T_tread_max_ocp_K",
+    "stopping_distance_abs_fmu", "stop_time_abs_fmu", "point_mass_bound_T0",
+    "point_mass_bound_reachable",
+    "mu_max_reachable", "T_tread_rise_bound_K", "T_tread_max_abs_K", "T_tread_max_locked_K",
+    "T_tread_max_abs_fmu_K", "abs_mean_slip", "abs_fmu_mean_slip",
 )
+
+#: Initial guesses the OCP can start from (``[ocp] starts``, :func:`solve_ocp_from_starts`).
+OCP_STARTS = ("deceleration", "locked")
+
+#: Entry-point group of braking simulators that plug into the study (``[study] fmu_abs``).
+SIMULATOR_GROUP = "tirefric.braking_simulators"
 
 
 @dataclass(frozen=True)
@@ -72,6 +91,12 @@ class MapSettings:
         thermal state on, cover the tread's temperature rise.
     slip_map_speeds : tuple of float
         Speeds of the exported slip map [m/s].
+    temperature_step : float
+        Spacing [K] of the temperature nodes the study adds above ``temperatures_rel`` until
+        the map covers the largest tread-temperature rise of a stop
+        (:func:`.quarter_car.tread_temperature_rise_bound`; thermal state on and a
+        temperature-dependent friction source only). Beyond its last node the map is
+        constant, which would freeze the friction of a tread that heats further.
     """
 
     n_kappa: int = 61
@@ -79,6 +104,7 @@ class MapSettings:
     loads_rel: tuple[float, ...] = (1.0,)
     temperatures_rel: tuple[float, ...] = (0.0,)
     slip_map_speeds: tuple[float, ...] = (2.0, 5.0, 10.0, 20.0, 30.0)
+    temperature_step: float = 2.0
 
 
 @dataclass(frozen=True)
@@ -98,6 +124,10 @@ class StudySpec:
     maps: MapSettings = field(default_factory=MapSettings)
     brake_torque_initial: float = 0.0
     base_dir: str = "."
+    abs_slip_from_map: bool = False
+    fmu_abs: bool = False
+    fmu: dict[str, Any] = field(default_factory=dict)
+    ocp_starts: tuple[str, ...] = ("deceleration",)
 
 
 def load_study(path: str | Path) -> StudySpec:
@@ -133,6 +163,7 @@ def load_study(path: str | Path) -> StudySpec:
     Tb0 = collect(st.quantity, "brake_torque_initial_Nm", "dimensionless", 0.0, nonnegative=True)
     vehicle_file = collect(st.path, "vehicle")
     car = collect(load_quarter_car, vehicle_file) if vehicle_file else None
+    fmu_abs = bool(collect(st.boolean, "fmu_abs", False))
     collect(st.check_unknown)
     if v0 is not None and v_stop is not None and not v0 > v_stop:
         errors.append(st.error("v_stop", "must be below study.v0", st.raw("v_stop")))
@@ -171,11 +202,17 @@ def load_study(path: str | Path) -> StudySpec:
         return root.table(key, required=False)
 
     abs_params = ABSParams()
+    abs_slip_from_map = False
     if (t := sub("abs")) is not None:
         kw = {}
-        for k in ("slip_threshold", "reapply_fraction"):
-            if t.has(k):
-                kw[k] = collect(t.quantity, k, "dimensionless", positive=True)
+        if t.raw("slip_threshold", None) == "slip_map":
+            abs_slip_from_map = True
+        elif t.has("slip_threshold"):
+            kw["slip_threshold"] = collect(t.quantity, "slip_threshold", "dimensionless",
+                                           positive=True)
+        if t.has("reapply_fraction"):
+            kw["reapply_fraction"] = collect(t.quantity, "reapply_fraction", "dimensionless",
+                                             positive=True)
         for k in ("decel_threshold", "accel_threshold", "accel_threshold_high"):
             if t.has(k):
                 kw[k] = collect(t.quantity, f"{k}", "dimensionless", positive=True)
@@ -186,6 +223,7 @@ def load_study(path: str | Path) -> StudySpec:
             or ABSParams()
 
     ocp = OCPSettings()
+    ocp_starts: tuple[str, ...] = ("deceleration",)
     if (t := sub("ocp")) is not None:
         kw = {}
         for k in ("intervals", "degree", "max_iter"):
@@ -197,6 +235,14 @@ def load_study(path: str | Path) -> StudySpec:
         if t.has("kappa_min"):
             kw["kappa_min"] = collect(t.quantity, "kappa_min", "dimensionless", minimum=-1.0,
                                       maximum=-1e-3)
+        if t.has("starts"):
+            starts = t.raw("starts")
+            if not isinstance(starts, list) or not starts or \
+                    not set(starts) <= set(OCP_STARTS) or len(set(starts)) != len(starts):
+                errors.append(t.error("starts", f"expected a list of distinct starts out of "
+                                      f"{', '.join(OCP_STARTS)}", starts))
+            else:
+                ocp_starts = tuple(starts)
         collect(t.check_unknown)
         ocp = collect(OCPSettings, **{k: v for k, v in kw.items() if v is not None}) \
             or OCPSettings()
@@ -233,8 +279,28 @@ def load_study(path: str | Path) -> StudySpec:
         if t.has("slip_map_speeds"):
             a = collect(t.array, "slip_map_speeds", "velocity", positive=True, increasing=True)
             kw["slip_map_speeds"] = None if a is None else tuple(a.tolist())
+        if t.has("temperature_step"):
+            kw["temperature_step"] = collect(t.quantity, "temperature_step",
+                                             "temperature_difference", positive=True)
         collect(t.check_unknown)
         maps = MapSettings(**{k: v for k, v in kw.items() if v is not None})
+
+    fmu: dict[str, Any] = {}
+    if (t := sub("fmu")) is not None:
+        if not fmu_abs:
+            errors.append(t.error("step", "an [fmu] table needs study.fmu_abs = true"))
+        for k in ("step", "t_max", "dt_internal"):
+            if t.has(k):
+                fmu[k] = collect(t.quantity, k, "time", positive=True)
+        if t.has("n_elements"):
+            fmu["n_elements"] = collect(t.integer, "n_elements", minimum=2)
+        if t.has("thermal"):
+            fmu["thermal"] = collect(t.string, "thermal", choices=("vehicle", "fmu"))
+        collect(t.check_unknown)
+        fmu = {k: v for k, v in fmu.items() if v is not None}
+    if fmu_abs and source != "brush":
+        errors.append(st.error("fmu_abs", "the FMU runs the brush tire: needs "
+                               "friction.source = 'brush'", True))
     collect(root.check_unknown)
     if not cases and not errors:
         errors.append(cs.error("roads", "no cases (need roads and temperatures)"))
@@ -243,7 +309,8 @@ def load_study(path: str | Path) -> StudySpec:
     return StudySpec(name=name, source=source, v0=v0, v_stop=v_stop, car=car,
                      friction=friction, cases=cases, abs_params=abs_params, ocp=ocp,
                      simulation=sim, maps=maps, brake_torque_initial=Tb0,
-                     base_dir=str(path.parent))
+                     base_dir=str(path.parent), abs_slip_from_map=abs_slip_from_map,
+                     fmu_abs=fmu_abs, fmu=fmu, ocp_starts=ocp_starts)
 
 
 def _string_list(t: Table, key: str, required: bool) -> list[str]:
@@ -268,6 +335,27 @@ class CaseResult:
     slip_map: SlipMap
     force_map: ForceMap
     provenance: dict[str, Any]
+    abs_fmu: Any = None
+
+
+def case_temperatures(spec: StudySpec, case: Case, temperature_dependent: bool = True
+                      ) -> np.ndarray:
+    """Temperature nodes of the force map of ``case`` [K].
+
+    The case temperature plus ``maps.temperatures_rel``; with the thermal state on and a
+    temperature-dependent source, nodes every ``maps.temperature_step`` above the largest
+    offset until the tread-temperature rise bound of the stop is covered
+    (:func:`.quarter_car.tread_temperature_rise_bound`): the tread of every strategy stays
+    inside the map, none reads a frozen edge value.
+    """
+    rel = np.asarray(spec.maps.temperatures_rel, dtype=float)
+    rise = tread_temperature_rise_bound(spec.car, spec.v0) if temperature_dependent else 0.0
+    top = float(rel.max())
+    if rise > top:
+        step = spec.maps.temperature_step
+        n = math.ceil((rise - top) / step - 1e-9)
+        rel = np.concatenate([rel, top + step * np.arange(1, n + 1)])
+    return case.T_K + rel
 
 
 def case_force_map(spec: StudySpec, case: Case) -> tuple[ForceMap, dict[str, Any], str]:
@@ -276,7 +364,7 @@ def case_force_map(spec: StudySpec, case: Case) -> tuple[ForceMap, dict[str, Any
     ax = default_axes(spec.v0, spec.v_stop, spec.car.Fz, case.T_K, n_kappa=spec.maps.n_kappa,
                       n_v=spec.maps.n_v)
     ax["Fz"] = spec.car.Fz * np.asarray(spec.maps.loads_rel)
-    ax["T_K"] = case.T_K + np.asarray(spec.maps.temperatures_rel)
+    ax["T_K"] = case_temperatures(spec, case, src.temperature_dependent)
     fmap = ForceMap.build(src.fx_over_fz, **ax, label=src.label)
     return fmap, src.provenance, src.label
 
@@ -284,38 +372,133 @@ def case_force_map(spec: StudySpec, case: Case) -> tuple[ForceMap, dict[str, Any
 def point_mass_bound(slip_map_v: SlipMap, v0: float, v_stop: float, g: float) -> float:
     """``int_{v_stop}^{v0} v / (g mu_max(v)) dv`` [m] with ``mu_max(v)`` from a slip map.
 
-    ``mu_max`` is interpolated linearly in ``log v`` between the map's speeds (at one load and
-    temperature); for a speed-independent peak this is ``(v0^2 - v_stop^2) / (2 g mu_max)``.
+    ``mu_max`` is interpolated linearly in ``log v`` between the map's speeds; with several
+    loads or temperatures in the map, the largest over them is taken at each speed (the
+    bound of a stop whose load or temperature may be any of them). For a speed-independent
+    peak this is ``(v0^2 - v_stop^2) / (2 g mu_max)``.
     """
     v = np.linspace(v_stop, v0, 401)
-    mu = np.interp(np.log(v), np.log(slip_map_v.vx), slip_map_v.mu_max.ravel())
+    mu_v = slip_map_v.mu_max.reshape(slip_map_v.vx.size, -1).max(axis=1)
+    mu = np.interp(np.log(v), np.log(slip_map_v.vx), mu_v)
     return float(np.trapezoid(v / (g * mu), v))
 
 
-def run_case(spec: StudySpec, case: Case) -> CaseResult:
-    """Run one case: force map, slip maps, OCP, ABS and locked-wheel simulations."""
+def _mean_slip(r: OCPResult | SimResult | Any) -> float:
+    """Distance-weighted mean slip of a stop [1]."""
+    dx = np.diff(r.x)
+    k_mid = 0.5 * (r.kappa[1:] + r.kappa[:-1])
+    return float(np.sum(k_mid * dx) / np.sum(dx))
+
+
+def abs_slip_schedule(slip_map_v: SlipMap) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """Release slips of the rule-based ABS from a slip map at one load and temperature.
+
+    The release threshold at each speed is the slip of maximum braking force ``|kappa*(v)|``:
+    below it ``d mu / d |kappa| > 0`` and the wheel is stable under a held torque; beyond it
+    the slope turns negative, the wheel is unstable and runs towards lock (Savaresi & Tanelli
+    2010, sec. 2.2: wheel dynamics linearised about the slip). Releasing there is the
+    calibration per tire and road a production ABS carries; it needs no margin tuned on
+    another curve, whatever the width of the peak.
+    """
+    speeds = tuple(float(v) for v in slip_map_v.vx)
+    slips = tuple(float(-k) for k in slip_map_v.kappa_opt.reshape(len(speeds), -1)[:, 0])
+    return speeds, slips
+
+
+def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: SimResult
+                          ) -> tuple[OCPResult, str, dict[str, Any]]:
+    """The OCP from each of ``spec.ocp_starts``; the shortest converged stop is kept.
+
+    IPOPT finds a local optimum, and with the tread temperature as a state the problem has
+    more than one: braking at the peak of a cold tire, or sliding first to heat a tread whose
+    friction rises with temperature (a compound near its glass transition). The starts:
+
+    ``deceleration``
+        Constant deceleration at the optimal slip (:func:`.ocp.solve_braking_ocp`), slip
+        bounded near the peak (``spec.ocp.kappa_min``).
+    ``locked``
+        The locked-wheel simulation of the case, over the full slip range ``[-1, 0]``: a
+        feasible point on the sliding side from which IPOPT improves.
+
+    Returns the best result, its start and per start the distance or the failure.
+    """
+    from dataclasses import replace
+
+    from lookup.errors import ConvergenceError
+
+    results: dict[str, OCPResult] = {}
+    tried: dict[str, Any] = {}
+    for start in spec.ocp_starts:
+        try:
+            if start == "locked":
+                res = solve_braking_ocp(spec.car, fmap, spec.v0, spec.v_stop, case.T_K,
+                                        settings=replace(spec.ocp, kappa_min=-1.0),
+                                        brake_torque_initial=spec.brake_torque_initial,
+                                        initial_guess=locked)
+            else:
+                res = solve_braking_ocp(spec.car, fmap, spec.v0, spec.v_stop, case.T_K,
+                                        settings=spec.ocp,
+                                        brake_torque_initial=spec.brake_torque_initial)
+        except ConvergenceError as exc:
+            tried[start] = {"failed": str(exc)}
+            continue
+        results[start] = res
+        tried[start] = {"stopping_distance": res.stopping_distance,
+                        "iterations": res.iterations, "solve_time_s": res.solve_time_s}
+    if not results:
+        raise ConvergenceError(f"case {case.label}: the braking OCP did not converge from any "
+                               f"start: {tried}")
+    best = min(results, key=lambda k: results[k].stopping_distance)
+    return results[best], best, tried
+
+
+def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResult:
+    """Run one case: force map, slip maps, OCP, ABS and locked-wheel simulations, and with
+    ``fmu_simulator`` (a plug-in of :data:`SIMULATOR_GROUP`) the ABS through the FMU."""
     car = spec.car
     fmap, prov, label = case_force_map(spec, case)
     v_bound = np.geomspace(spec.v_stop, spec.v0, 25)
     sm_line = optimal_slip(fmap, v_bound, [car.Fz], [case.T_K], label=label)
-    bound = point_mass_bound(sm_line, spec.v0, spec.v_stop, car.g)
+    bound_T0 = point_mass_bound(sm_line, spec.v0, spec.v_stop, car.g)
+
+    def bound_up_to(T_top: float) -> tuple[float, float]:
+        """Point-mass bound and peak friction with the tread anywhere in [T0, T_top]."""
+        rise = min(T_top, float(fmap.axes["T_K"].max())) - case.T_K
+        if rise <= 1e-9:
+            return bound_T0, float(sm_line.mu_max.max())
+        T_range = np.linspace(case.T_K, case.T_K + rise, math.ceil(rise / 0.5) + 1)
+        sm_T = optimal_slip(fmap, v_bound, [car.Fz], T_range, label=label)
+        return point_mass_bound(sm_T, spec.v0, spec.v_stop, car.g), float(sm_T.mu_max.max())
+
+    # every stop keeps its tread between T0 and T0 + rise bound (heating >= 0, cooling
+    # towards T0): the best friction over those temperatures bounds every strategy
+    bound_any, mu_reach = bound_up_to(case.T_K + tread_temperature_rise_bound(car, spec.v0))
     sm = optimal_slip(fmap, np.asarray(spec.maps.slip_map_speeds), fmap.axes["Fz"],
                       fmap.axes["T_K"], label=label)
     sm0 = optimal_slip(fmap, [spec.v0], [car.Fz], [case.T_K], label=label)
+    schedule = abs_slip_schedule(sm_line) if spec.abs_slip_from_map else None
 
-    ocp = solve_braking_ocp(car, fmap, spec.v0, spec.v_stop, case.T_K, settings=spec.ocp,
-                            brake_torque_initial=spec.brake_torque_initial)
-    abs_ctrl = RuleBasedABS(spec.abs_params, car.radius, car.brake_torque_rate_max)
-    abs_sim = simulate_braking(car, fmap, abs_ctrl, spec.v0, spec.v_stop, case.T_K,
-                               settings=spec.simulation,
-                               brake_torque_initial=spec.brake_torque_initial)
     locked = simulate_braking(car, fmap, LockedWheel(car.brake_torque_rate_max,
                                                      spec.abs_params.control_period),
                               spec.v0, spec.v_stop, case.T_K, settings=spec.simulation,
                               brake_torque_initial=spec.brake_torque_initial)
-    # distance-weighted mean slip of the OCP (the slip the optimal stop holds)
-    dx = np.diff(ocp.x)
-    k_mid = 0.5 * (ocp.kappa[1:] + ocp.kappa[:-1])
+    ocp, ocp_start, ocp_tried = solve_ocp_from_starts(spec, case, fmap, locked)
+    # the bound of the temperatures the optimal stop's tread actually passes through: the
+    # OCP cannot beat it (a check of the transcription), whatever heating does
+    bound, _ = bound_up_to(float(np.max(ocp.T_tread)))
+
+    def abs_controller() -> RuleBasedABS:
+        return RuleBasedABS(spec.abs_params, car.radius, car.brake_torque_rate_max,
+                            slip_schedule=schedule)
+
+    abs_sim = simulate_braking(car, fmap, abs_controller(), spec.v0, spec.v_stop, case.T_K,
+                               settings=spec.simulation,
+                               brake_torque_initial=spec.brake_torque_initial)
+    abs_fmu = None
+    if fmu_simulator is not None:
+        abs_fmu = fmu_simulator(car, abs_controller(), spec.v0, spec.v_stop, case.T_K,
+                                brake_torque_initial=spec.brake_torque_initial)
+    nan = math.nan
     summary = {
         "case": case.label, "road": case.road, "compound": case.compound,
         "T_C": round(case.T_C, 6),
@@ -326,36 +509,104 @@ def run_case(spec: StudySpec, case: Case) -> CaseResult:
         "point_mass_bound": bound,
         "mu_max": float(sm0.mu_max.ravel()[0]),
         "mu_locked": float(sm0.mu_locked.ravel()[0]),
-        "ocp_mean_slip": float(np.sum(k_mid * dx) / np.sum(dx)),
+        "ocp_mean_slip": _mean_slip(ocp),
         "stop_time_ocp": ocp.final_time, "stop_time_abs": abs_sim.stop_time,
         "stop_time_locked": locked.stop_time,
         "ocp_solve_time_s": ocp.solve_time_s, "ocp_iterations": ocp.iterations,
         "map_build_time_s": fmap.build_time_s,
         "T_tread_max_ocp_K": float(np.max(ocp.T_tread)),
+        "stopping_distance_abs_fmu": nan if abs_fmu is None else abs_fmu.stopping_distance,
+        "stop_time_abs_fmu": nan if abs_fmu is None else abs_fmu.stop_time,
+        "point_mass_bound_T0": bound_T0,
+        "point_mass_bound_reachable": bound_any,
+        "mu_max_reachable": mu_reach,
+        "T_tread_rise_bound_K": tread_temperature_rise_bound(car, spec.v0),
+        "T_tread_max_abs_K": float(np.max(abs_sim.T_tread)),
+        "T_tread_max_locked_K": float(np.max(locked.T_tread)),
+        "T_tread_max_abs_fmu_K": nan if abs_fmu is None else float(np.max(abs_fmu.T_tread)),
+        "abs_mean_slip": _mean_slip(abs_sim),
+        "abs_fmu_mean_slip": nan if abs_fmu is None else _mean_slip(abs_fmu),
         "Fz_N": car.Fz, "radius_m": car.radius,
     }
+    provenance = {"friction": prov, "friction_label": label, "ocp_status": ocp.status,
+                  "ocp_start": ocp_start, "ocp_starts": ocp_tried,
+                  "ocp_kappa_bound": ocp.kappa_bound,
+                  "ocp_kappa_bound_active": ocp.kappa_bound_active,
+                  "map_T_K": fmap.axes["T_K"].tolist(),
+                  "abs_slip_schedule": None if schedule is None else
+                  {"vx_m_per_s": list(schedule[0]), "slip": list(schedule[1])}}
+    if abs_fmu is not None:
+        provenance["abs_fmu"] = {"simulator": getattr(fmu_simulator, "label", ""),
+                                 **getattr(abs_fmu, "fmu", {})}
     return CaseResult(case=case, summary=summary, ocp=ocp, abs_sim=abs_sim, locked=locked,
-                      slip_map=sm, force_map=fmap,
-                      provenance={"friction": prov, "friction_label": label,
-                                  "ocp_status": ocp.status,
-                                  "ocp_kappa_bound": ocp.kappa_bound,
-                                  "ocp_kappa_bound_active": ocp.kappa_bound_active})
+                      slip_map=sm, force_map=fmap, provenance=provenance, abs_fmu=abs_fmu)
 
 
-def run_study(spec: StudySpec, scheduler: str | None = None,
-              progress=None) -> list[CaseResult]:
-    """Run every case, locally in order or as Dask tasks on ``scheduler`` (an address)."""
+def load_braking_simulator(name: str) -> Any:
+    """The factory registered as ``name`` in the entry-point group :data:`SIMULATOR_GROUP`.
+
+    A factory is called as ``factory(tire, grid, work_dir, options)`` and returns a picklable
+    simulator ``sim(car, controller, v0, v_stop, T_ambient, *, brake_torque_initial)`` whose
+    result has the attributes of :class:`.simulation.SimResult` (``t``, ``x``, ``v``,
+    ``omega``, ``brake_torque``, ``kappa``, ``mu``, ``T_tread``, ``phase``,
+    ``stopping_distance``, ``stop_time``, ``dt``). tirefric's FMU registers ``fmu``
+    (``fmu_src.cosim:braking_simulator``); ``tire_brush`` never imports it by name.
+    """
+    from importlib.metadata import entry_points
+
+    eps = {ep.name: ep for ep in entry_points(group=SIMULATOR_GROUP)}
+    if name not in eps:
+        raise InputError(f"no braking simulator '{name}' is installed (entry-point group "
+                         f"'{SIMULATOR_GROUP}' has: {', '.join(sorted(eps)) or 'none'})",
+                         field="study.fmu_abs", value=name)
+    return eps[name].load()
+
+
+def fmu_simulators(spec: StudySpec, work_dir: str | Path) -> dict[str, Any]:
+    """One FMU simulator per case label, built once per (tire, grid) into ``work_dir``."""
+    from .friction import brush_inputs
+
+    factory = load_braking_simulator("fmu")
+    built: dict[tuple[str, str], Any] = {}
+    out = {}
+    for case in spec.cases:
+        key = brush_inputs(spec.friction, case, Path(spec.base_dir))
+        if key not in built:
+            built[key] = factory(*key, Path(work_dir), dict(spec.fmu))
+        out[case.label] = built[key]
+    return out
+
+
+def run_study(spec: StudySpec, scheduler: str | None = None, progress=None,
+              work_dir: str | Path | None = None) -> list[CaseResult]:
+    """Run every case, locally in order or as Dask tasks on ``scheduler`` (an address).
+
+    ``work_dir`` receives what plug-in simulators build (the FMUs of ``[study] fmu_abs``;
+    with a scheduler it must be a folder the workers can read). None: a temporary folder,
+    removed when the study ends.
+    """
+    if spec.fmu_abs and work_dir is None:
+        import tempfile
+
+        with tempfile.TemporaryDirectory(prefix="tirefric_study_") as tmp:
+            return run_study(spec, scheduler, progress, tmp)
+    sims: dict[str, Any] = {}
+    if spec.fmu_abs:
+        if progress is not None:
+            progress(f"FMU build into {work_dir}")
+        sims = fmu_simulators(spec, work_dir)
     if scheduler is None:
         out = []
         for case in spec.cases:
             if progress is not None:
                 progress(f"case {case.label}")
-            out.append(run_case(spec, case))
+            out.append(run_case(spec, case, sims.get(case.label)))
         return out
     from dask.distributed import Client
 
     with Client(scheduler) as client:
-        futures = [client.submit(run_case, spec, case, pure=False) for case in spec.cases]
+        futures = [client.submit(run_case, spec, case, sims.get(case.label), pure=False)
+                   for case in spec.cases]
         return client.gather(futures)
 
 
@@ -393,13 +644,16 @@ def write_results(spec: StudySpec, results: list[CaseResult], out_dir: str | Pat
     for r in results:
         with open(out / "trajectories" / f"{r.case.label}.csv", "w", newline="") as fh:
             fh.write("# strategy: ocp (optimal control, interval boundaries), abs (rule-based), "
-                     "locked (no ABS)\n")
+                     "locked (no ABS), abs_fmu (rule-based ABS through the FMU)\n")
             w = csv.writer(fh)
             w.writerow(["strategy", "t [s]", "x [m]", "v [m/s]", "omega [rad/s]",
                         "brake_torque [N m]", "kappa [1]", "mu [1]", "T_tread [K]", "phase"])
             stride = max(1, round(0.001 / r.abs_sim.dt))      # 1 ms in the simulations
-            for name, res, s in (("ocp", r.ocp, 1), ("abs", r.abs_sim, stride),
-                                 ("locked", r.locked, stride)):
+            runs = [("ocp", r.ocp, 1), ("abs", r.abs_sim, stride),
+                    ("locked", r.locked, stride)]
+            if r.abs_fmu is not None:
+                runs.append(("abs_fmu", r.abs_fmu, max(1, round(0.001 / r.abs_fmu.dt))))
+            for name, res, s in runs:
                 for row in _trajectory_rows(name, res, s):
                     w.writerow([row[0], *(f"{x:.8g}" for x in row[1:9]), row[9]])
         r.slip_map.to_csv(out / "slip_maps" / f"{r.case.label}.csv")
@@ -407,11 +661,15 @@ def write_results(spec: StudySpec, results: list[CaseResult], out_dir: str | Pat
         "study": spec.name,
         "spec": None if spec_path is None else str(spec_path),
         "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
-        "units": {"stopping_distance_*": "m", "point_mass_bound": "m", "optimal_slip": "1",
-                  "T_C": "Celsius", "stop_time_*": "s", "mu_*": "1"},
+        "units": {"stopping_distance_*": "m", "point_mass_bound*": "m", "optimal_slip": "1",
+                  "T_C": "Celsius", "stop_time_*": "s", "mu_*": "1", "T_tread_*": "K",
+                  "*_mean_slip": "1"},
         "v0_m_per_s": spec.v0, "v_stop_m_per_s": spec.v_stop,
         "vehicle": _jsonable(asdict(spec.car)),
-        "abs": asdict(spec.abs_params), "ocp": asdict(spec.ocp),
+        "abs": dict(asdict(spec.abs_params),
+                    **({"slip_threshold": "slip_map"} if spec.abs_slip_from_map else {})),
+        "fmu_abs": spec.fmu_abs, "fmu": spec.fmu,
+        "ocp": dict(asdict(spec.ocp), starts=list(spec.ocp_starts)),
         "simulation": asdict(spec.simulation), "map": asdict(spec.maps),
         "friction": spec.friction,
         "cases": [dict(r.summary, provenance=_jsonable(r.provenance),
