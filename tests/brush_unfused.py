@@ -6,6 +6,9 @@ the unfused :func:`tire_brush.element.element_step` (the law the steady model us
 :class:`~tire_brush.element.StepCoefficients` and
 :func:`~tire_brush.patch.parabolic_pressure`; ``tests/test_brush_transient_fused.py`` pins the
 fused :class:`~tire_brush.element.LatticeStepper` path of the shipped model to it bit for bit.
+The element law itself is not copied: both paths share :func:`element_step`'s arithmetic
+(including eq. (28)'s step-averaged cold weight), which ``LatticeStepper`` repeats operation
+for operation.
 """
 
 from __future__ import annotations

@@ -23,9 +23,24 @@ moves along ``(A + mu p/|w^+|)^{-1} g`` with ``|w^+|`` the root of
 isotropic elements and pure slip, one Newton step on the 2-D magnitude corrects combined slip).
 The root is sought from the previous speed (continuation: the tip's velocity is continuous):
 ``n_newton - 1`` Newton steps in ``ln V`` on the table (piecewise linear in log10 v, with exact
-slopes), then the implicit solve with mu linearised at the last iterate. Eq. (28)'s cold weight
-``exp(-s^+/s0)`` is taken at the end of the step with a predicted speed, so that the
-static/kinetic limit s0 -> 0 switches to the kinetic value within the first sliding step.
+slopes), then the implicit solve with mu linearised at the last iterate.
+
+Eq. (28)'s cold weight is the mean of ``exp(-s(t)/s0)`` over the step at a predicted slip
+speed ``V_p`` (``ds = V_p dt``, ``s`` the slipped distance at the start of the step):
+
+.. math::  E = \frac{s_0}{ds}\left(e^{-s/s_0} - e^{-(s + ds)/s_0}\right)
+             = e^{-s/s_0}\,\frac{-\mathrm{expm1}(-ds/s_0)}{ds/s_0}
+             \;\to\; e^{-s/s_0} \quad (ds \to 0),
+
+evaluated in the second form (``ds/s0`` floored at :data:`W_FLOOR`, where the factor is 1 to
+rounding). Why the mean: with s0 ~ 0.2 mm a sliding element moves ``V dt`` >> s0 in one
+step (1 m/s x 1 ms = 1 mm), so the weight at either end of the step misstates the
+cold -> hot transition (at the end: the element is on the hot branch after one step). The
+mean makes the friction impulse over a step exact for constant slip
+speed: what is left is first order in the speed change over the step. Limits: s0 -> inf gives
+1 (cold only); s0 -> 0 gives ``s0/ds -> 0`` in an element's first sliding step, so the
+static/kinetic law switches to the kinetic value within it, as before; sticking elements
+(``V_p = 0``) get ``exp(-s/s0)``.
 
 Velocity weakening. A massless element (``m = d = 0``) gives ``A = k dt`` and a step that is
 ill posed on a falling mu(v) branch as dt -> 0 (physics-notes: several roots). The tip mass
@@ -59,6 +74,9 @@ CREEP_SPEED = 1e-3
 S_MAX = 1e6
 #: Fraction of A up to which a falling friction chord is treated implicitly (module docstring).
 SLOPE_LIMIT = 0.9
+#: Floor of ``Vp dt / s0`` in the step-averaged cold weight (module docstring): below it the
+#: weight's factor ``-expm1(-x)/x`` is 1 to rounding, and ``x = 0`` needs no branch.
+W_FLOOR = 1e-300
 
 
 @dataclass(frozen=True)
@@ -106,7 +124,8 @@ class StepResult:
     speed : ndarray
         Slip speed ``|w|`` at the end of the step [m/s] (0 where sticking).
     cold : ndarray
-        Cold weight ``exp(-s/s0)`` of eq. (28) at the end of the step (predicted speed).
+        Cold weight of eq. (28) averaged over the step at the predicted speed (module
+        docstring).
     dT_flash : ndarray
         Hot-branch flash temperature rise at the final linearisation speed [K].
     """
@@ -185,10 +204,10 @@ def element_step(state: np.ndarray, pf: np.ndarray, Vb: np.ndarray, props: Eleme
 
     Notes
     -----
-    Eq. (28)'s cold weight is evaluated at the end of the step with a predicted speed: the
-    start speed for an element that was sliding, the hot-branch estimate
-    ``(|g| - mu_hot(0) p) / A`` for one that starts to slide (so that the static/kinetic limit
-    s0 -> 0 uses the kinetic value from its first sliding step).
+    Eq. (28)'s cold weight is the mean of ``exp(-s/s0)`` over the step (module docstring) at
+    a predicted speed: the start speed for an element that was sliding, the hot-branch
+    estimate ``(|g| - mu_hot(0) p) / A`` for one that starts to slide (so that the
+    static/kinetic limit s0 -> 0 uses the kinetic value from its first sliding step).
     """
     u = state[0:2]
     w = state[2:4]
@@ -205,16 +224,20 @@ def element_step(state: np.ndarray, pf: np.ndarray, Vb: np.ndarray, props: Eleme
     mu0 = q.mu0
     dmu0 = mu0[0] - mu0[1]
     # stick test against eq. (28) at v -> 0 with the slip distance so far
-    stick = G <= (mu0[1] + dmu0 * np.exp(-s * inv_s0)) * pf
+    E0 = np.exp(-s * inv_s0)
+    stick = G <= (mu0[1] + dmu0 * E0) * pf
     if props.isotropic:
         Ae = A[0] * np.ones_like(G) if A.shape[1] != G.size else A[0]
     else:
         g2 = g * g
         Ae = A[1] + (A[0] - A[1]) * (g2[0] / np.maximum(g2[0] + g2[1], 1e-300))
     V_hi = G / Ae                                     # the root lies below: mu >= 0
-    # cold weight at the end of the step, with a predicted speed
+    # cold weight averaged over the step at a predicted speed: with y = -Vp dt / s0,
+    # E = exp(-s/s0) (exp(y) - 1) / y (y floored at -1e-300: the limit y -> 0 gives exactly 1)
     Vp = np.where(V0 > 0.0, V0, np.maximum(G - mu0[1] * pf, 0.0) / Ae)
-    E = np.exp(-(s + Vp * dt) * inv_s0)
+    y = Vp * dt * -inv_s0
+    np.minimum(y, -W_FLOOR, out=y)
+    E = np.expm1(y) / y * E0
     # Newton steps in ln V on  Ae V + p mu(V) = |g|  from the predicted speed
     V = np.maximum(np.minimum(Vp, V_hi), table.v_floor)
     for _ in range(n_newton - 1):
@@ -312,7 +335,7 @@ def march_point(props: ElementProps, rows: list, mu0: list, p: list, pf: list, x
     lv0, inv_lv, n_max, inv_dlnv = v_axis
     v_floor = 10.0 ** lv0
     Vbx, Vby = Vb
-    exp, hypot, log10, sqrt = math.exp, math.hypot, math.log10, math.sqrt
+    exp, expm1, hypot, log10, sqrt = math.exp, math.expm1, math.hypot, math.log10, math.sqrt
     coef = []
     for h in dts:
         kdx, kdy = kx * h + dx, ky * h + dy
@@ -340,7 +363,8 @@ def march_point(props: ElementProps, rows: list, mu0: list, p: list, pf: list, x
         G = hypot(gx, gy)
         V0 = hypot(wx, wy)
         m0c, m0h = mu0[j]
-        stick = G <= (m0h + (m0c - m0h) * exp(-s * inv_s0)) * pfj
+        E0 = exp(-s * inv_s0)
+        stick = G <= (m0h + (m0c - m0h) * E0) * pfj
         if iso:
             Ae = Ax
         else:
@@ -348,7 +372,8 @@ def march_point(props: ElementProps, rows: list, mu0: list, p: list, pf: list, x
             Ae = Ay + (Ax - Ay) * (g2x / max(g2x + g2y, 1e-300))
         V_hi = G / Ae
         Vp = V0 if V0 > 0.0 else max(G - m0h * pfj, 0.0) / Ae
-        E = exp(-(s + Vp * h) * inv_s0)
+        y = min(Vp * h * -inv_s0, -W_FLOOR)
+        E = expm1(y) / y * E0
         V = max(min(Vp, V_hi), v_floor)
         row = rows[j]
         for _ in range(n_newton - 1):
@@ -393,7 +418,7 @@ class _Workspace:
     """Preallocated arrays (and their row views) of :class:`LatticeStepper` for ``n``
     elements: the step writes every intermediate into them."""
 
-    __slots__ = ("A", "A0", "A1", "Ae", "B", "B0", "B1", "D", "D0", "D1", "E", "G", "V",
+    __slots__ = ("A", "A0", "A1", "Ae", "B", "B0", "B1", "D", "D0", "D1", "E", "E0", "G", "V",
                  "V_hi", "Vn", "Vp", "d", "den", "dq", "floor", "g", "g0", "g1", "g2", "g2_0",
                  "g2_1", "k", "kd", "mdt", "pa", "pb", "pos", "qq", "r", "r0", "r1", "rel",
                  "slide", "t1", "t2", "t2_0", "t2_1", "tau", "thr")
@@ -411,8 +436,8 @@ class _Workspace:
         self.D0, self.D1 = self.D
         self.r0, self.r1 = self.r
         self.t2_0, self.t2_1 = self.t2
-        (self.floor, self.G, self.thr, self.Ae, self.V_hi, self.Vp, self.E, self.V, self.Vn,
-         self.pb, self.pa, self.den, self.qq, self.dq, self.t1) = np.empty((15, n))
+        (self.floor, self.G, self.thr, self.Ae, self.V_hi, self.Vp, self.E, self.E0, self.V,
+         self.Vn, self.pb, self.pa, self.den, self.qq, self.dq, self.t1) = np.empty((16, n))
         self.slide = np.empty(n, dtype=bool)
         self.pos = np.empty(n, dtype=bool)
 
@@ -456,7 +481,7 @@ class LatticeStepper:
         else:
             self._a_min_row = None
         self._c = tuple(np.array(x) for x in (-table.inv_s0, table.v_floor, 0.0, 1e-300,
-                                              1e-9, S_MAX, -SLOPE_LIMIT, props.m))
+                                              1e-9, S_MAX, -SLOPE_LIMIT, props.m, -W_FLOOR))
         self._work: dict[int, _Workspace] = {}
 
     def step(self, state: np.ndarray, pf: np.ndarray, Vb: np.ndarray, dt: float | np.ndarray,
@@ -491,7 +516,7 @@ class LatticeStepper:
         """
         mul, add, sub, div = np.multiply, np.add, np.subtract, np.divide
         maximum, minimum = np.maximum, np.minimum
-        neg_inv_s0, v_floor, zero, tiny, d_floor, s_max, neg_slope, m0 = self._c
+        neg_inv_s0, v_floor, zero, tiny, d_floor, s_max, neg_slope, m0, neg_w_floor = self._c
         props = self.props
         n = state.shape[1]
         W = self._work.get(n)
@@ -525,8 +550,8 @@ class LatticeStepper:
         mu0 = q.mu0
         mu0h = mu0[1]
         # stick test against eq. (28) at v -> 0 with the slip distance so far
-        thr = np.exp(mul(s, neg_inv_s0, W.thr), W.thr)
-        mul(thr, sub(mu0[0], mu0h, t1), thr)
+        E0 = np.exp(mul(s, neg_inv_s0, W.E0), W.E0)
+        thr = mul(E0, sub(mu0[0], mu0h, t1), W.thr)
         add(thr, mu0h, thr)
         mul(thr, pf, thr)
         slide = np.logical_not(np.less_equal(G, thr, W.slide), W.slide)   # as ~(G <= thr)
@@ -541,16 +566,17 @@ class LatticeStepper:
             mul(Ae, sub(W.A0, W.A1, t1), Ae)
             add(Ae, W.A1, Ae)
         V_hi = div(G, Ae, W.V_hi)                     # the root lies below: mu >= 0
-        # cold weight at the end of the step, with a predicted speed
+        # cold weight averaged over the step at a predicted speed (element_step)
         Vp = mul(mu0h, pf, W.Vp)
         sub(G, Vp, Vp)
         maximum(Vp, zero, out=Vp)
         div(Vp, Ae, Vp)
         np.copyto(Vp, V0, where=np.greater(V0, zero, W.pos))   # V0 where V0 > 0
-        E = mul(Vp, dt1, W.E)
-        add(E, s, E)
+        E = mul(Vp, dt1, W.E)                         # y = -Vp dt / s0, floored at -W_FLOOR
         mul(E, neg_inv_s0, E)
-        np.exp(E, E)
+        minimum(E, neg_w_floor, out=E)
+        div(np.expm1(E, t1), E, E)
+        mul(E, E0, E)
         V = minimum(Vp, V_hi, out=W.V)
         maximum(V, v_floor, out=V)
         table = self.table
