@@ -23,7 +23,8 @@ def test_default_resolution_within_0p3_percent_of_4x_finer(compound, surface) ->
     base = EngineSettings()
     fine = EngineSettings(q_per_decade=4 * base.q_per_decade, n_phi=4 * base.n_phi,
                           modulus_per_decade=4 * base.modulus_per_decade,
-                          tau_per_decade=4 * base.tau_per_decade, hot_tol=1e-5)
+                          tau_per_decade=4 * base.tau_per_decade, hot_tol=1e-4,
+                          hot_max_iter=1000)
     a = PerssonFriction(load_compound(compound), load_surface(surface), base)
     b = PerssonFriction(load_compound(compound), load_surface(surface), fine)
     v = np.logspace(-6, np.log10(40.0), 12)
@@ -33,5 +34,6 @@ def test_default_resolution_within_0p3_percent_of_4x_finer(compound, surface) ->
             ra, rb = getattr(a, branch)(v, T, p), getattr(b, branch)(v, T, p)
             worst = max(worst, float(np.abs(ra.mu / rb.mu - 1).max()))
             if branch == "hot":
-                assert (ra.residual <= base.hot_tol).all() and (rb.residual <= 1e-5).all()
+                # 1e-4 K on the reference moves mu by ~1e-5 relative (dmu/dT <~ 0.1 1/K)
+                assert (ra.residual <= base.hot_tol).all() and (rb.residual <= 1e-4).all()
     assert worst < 3e-3, f"{compound}/{surface}: worst relative difference {worst:.2e}"
