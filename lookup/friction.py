@@ -309,9 +309,14 @@ class PerssonFriction:
         scale = (sigma0 * v / parts["P_m"])[:, None]
         return np.concatenate([parts["mu_cont"][:, None], parts["dmu_w"]], axis=1) * scale
 
-    def _fixed_point(self, v: np.ndarray, T0: np.ndarray, sigma0: np.ndarray
+    def _fixed_point(self, v: np.ndarray, T0: np.ndarray, sigma0: np.ndarray,
+                     cold: dict[str, np.ndarray] | None = None
                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray]]:
-        """Solve dT = F(dT) for every point (vectorised over points sharing nothing but code)."""
+        """Solve dT = F(dT) for every point (vectorised over points sharing nothing but code).
+
+        ``cold`` is the evaluation at dT = 0 (the cold branch) when the caller already has it;
+        the iteration starts from it instead of evaluating it again.
+        """
         s = self.settings
         B, n = v.size, self.q.size + 1
         uv, inv = np.unique(v, return_inverse=True)
@@ -323,7 +328,12 @@ class PerssonFriction:
             return np.einsum("bij,bj->bi", kernels[inv[idx]], W), parts
 
         x = np.zeros((B, n))
-        fx, parts = F(x, np.arange(B))
+        if cold is None:
+            fx, parts = F(x, np.arange(B))
+        else:
+            parts = {k: a.copy() for k, a in cold.items()}  # the loop updates it in place
+            W = self.heat_sources(v, sigma0, parts)
+            fx = np.einsum("bij,bj->bi", kernels[inv], W)
         res = fx - x
         rnorm = np.abs(res).max(axis=1)
         iters = np.ones(B, dtype=int)
@@ -388,16 +398,31 @@ class PerssonFriction:
         """Cold branch (no flash heating) at slip speed v [m/s], temperature T0 [K] and nominal
         pressure sigma0 [Pa]; arrays broadcast. Review eqs. (17)-(21)."""
         shape, v, T0, sigma0 = self._prepare(v, T0, sigma0)
-        p = self._evaluate(v, T0, sigma0, None)
-        z = np.zeros_like(v)
-        return FrictionResult(p["mu_visc"] + p["mu_cont"], p["mu_visc"], p["mu_cont"],
-                              p["area"], z, z, z, np.zeros(v.size, int)).reshape(shape)
+        return self._cold_result(self._evaluate(v, T0, sigma0, None), shape)
 
     def hot(self, v: Any, T0: Any, sigma0: Any) -> FrictionResult:
         """Hot branch: flash temperature fully developed and self-consistent (module docstring
         and :mod:`lookup.flash_temperature`); residual [K] reported per point."""
         shape, v, T0, sigma0 = self._prepare(v, T0, sigma0)
-        x, rnorm, iters, p = self._fixed_point(v, T0, sigma0)
+        return self._hot_result(self._fixed_point(v, T0, sigma0), shape)
+
+    def cold_and_hot(self, v: Any, T0: Any, sigma0: Any
+                     ) -> tuple[FrictionResult, FrictionResult]:
+        """Both branches; the hot solve starts from the cold evaluation (its dT = 0 state)
+        instead of repeating it. Same numbers as :meth:`cold` and :meth:`hot`."""
+        shape, v, T0, sigma0 = self._prepare(v, T0, sigma0)
+        c = self._evaluate(v, T0, sigma0, None)
+        return (self._cold_result(c, shape),
+                self._hot_result(self._fixed_point(v, T0, sigma0, cold=c), shape))
+
+    @staticmethod
+    def _cold_result(p: dict[str, np.ndarray], shape: tuple[int, ...]) -> FrictionResult:
+        z = np.zeros_like(p["mu_visc"])
+        return FrictionResult(p["mu_visc"] + p["mu_cont"], p["mu_visc"], p["mu_cont"],
+                              p["area"], z, z, z, np.zeros(z.size, int)).reshape(shape)
+
+    def _hot_result(self, solved: tuple, shape: tuple[int, ...]) -> FrictionResult:
+        x, rnorm, iters, p = solved
         self.last_hot_residual = float(rnorm.max()) if rnorm.size else 0.0
         return FrictionResult(p["mu_visc"] + p["mu_cont"], p["mu_visc"], p["mu_cont"],
                               p["area"], x[:, 0], x.max(axis=1), rnorm, iters).reshape(shape)
@@ -406,8 +431,7 @@ class PerssonFriction:
         """All grid variables at one slip speed over T0 (nT,) x sigma0 (np,) -> (nT, np)."""
         T = np.asarray(T0, float)[:, None]
         p = np.asarray(sigma0, float)[None, :]
-        c = self.cold(v, T, p)
-        h = self.hot(v, T, p)
+        c, h = self.cold_and_hot(v, T, p)
         return {"mu_cold": c.mu, "mu_hot": h.mu, "mu_visc_cold": c.mu_visc,
                 "mu_cont_cold": c.mu_cont, "mu_visc_hot": h.mu_visc, "mu_cont_hot": h.mu_cont,
                 "area_cold": c.area, "area_hot": h.area, "dT_flash": h.dT_flash,
@@ -417,6 +441,5 @@ class PerssonFriction:
         """Columns of ``tirefric mu``: v, mu_cold, mu_hot, mu_visc_cold, mu_cont_cold,
         area_cold, area_hot, dT_flash."""
         v = np.atleast_1d(np.asarray(v, float))
-        c = self.cold(v, T0, sigma0)
-        h = self.hot(v, T0, sigma0)
+        c, h = self.cold_and_hot(v, T0, sigma0)
         return (v, c.mu, h.mu, c.mu_visc, c.mu_cont, c.area, h.area, h.dT_flash)

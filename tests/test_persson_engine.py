@@ -259,3 +259,18 @@ def test_tabulated_master_curve_outside_policy() -> None:
     strict = TabulatedMasterCurve(w, ER, EI, outside="error")
     with pytest.raises(ValueError, match="outside"):
         strict.storage_loss(np.array([1e9]))
+
+
+def test_cold_and_hot_equal_separate_branches(compound, surface) -> None:
+    """The shared-start solve gives exactly the numbers of cold() and hot() (bit for bit:
+    the hot iteration starts from the same dT = 0 evaluation)."""
+    from dataclasses import asdict
+
+    m = PerssonFriction(compound, surface)
+    T = np.array([[253.15], [293.15], [353.15]])
+    p = np.array([[5e4, 3e5, 2e6]])
+    for v in (1e-5, 0.03, 3.0, 30.0):
+        c, h = m.cold_and_hot(v, T, p)
+        for a, b in ((c, m.cold(v, T, p)), (h, m.hot(v, T, p))):
+            for key, val in asdict(a).items():
+                np.testing.assert_array_equal(val, getattr(b, key), err_msg=f"{key} at v={v}")
