@@ -27,6 +27,18 @@ def _plt():
     return plt
 
 
+def _finish(fig, axes, path: str | Path) -> Path:
+    """Grid and legend on every panel, tight layout, save as PNG, close."""
+    for a in axes:
+        a.grid(True, which="both", alpha=0.3)
+        a.legend(fontsize=8)
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=110)
+    _plt().close(fig)
+    return path
+
+
 def plot_friction(model: PerssonFriction, T_C: Sequence[float], p: float, path: str | Path,
                   v: np.ndarray | None = None) -> Path:
     """mu(v) cold (dashed) and hot (solid), flash temperature and A/A0 vs v at several T."""
@@ -49,14 +61,7 @@ def plot_friction(model: PerssonFriction, T_C: Sequence[float], p: float, path: 
               title="flash temperature (hot branch, surface)")
     ax[2].set(xlabel="slip speed v [m/s]", ylabel="real contact area A/A0 [1]",
               title=f"contact area (q1 = {model.q1:.3g} 1/m)")
-    for a in ax:
-        a.grid(True, which="both", alpha=0.3)
-        a.legend(fontsize=8)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _finish(fig, ax, path)
 
 
 def plot_compound(compound: Compound, path: str | Path, T_C: Sequence[float] = (20.0,)) -> Path:
@@ -74,14 +79,7 @@ def plot_compound(compound: Compound, path: str | Path, T_C: Sequence[float] = (
     ax[0].set(xlabel="angular frequency w [rad/s]", ylabel="modulus [Pa]",
               title=f"{compound.name}: master curve at strain {compound.strain:g} (eq. 6)")
     ax[1].set(xlabel="angular frequency w [rad/s]", ylabel="tan delta [1]", title="loss tangent")
-    for a in ax:
-        a.grid(True, which="both", alpha=0.3)
-        a.legend(fontsize=8)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _finish(fig, ax, path)
 
 
 def plot_surface(surface: Surface, path: str | Path) -> Path:
@@ -99,11 +97,4 @@ def plot_surface(surface: Surface, path: str | Path) -> Path:
     ax[1].axvline(q1, color="k", ls=":", label=f"rule: {surface.cutoff.rule}")
     ax[1].set(xlabel="wavenumber q [1/m]", ylabel="cumulative rms slope xi(q) [1]",
               title="rms slope (q1 rule, review sec. 5.1)")
-    for a in ax:
-        a.grid(True, which="both", alpha=0.3)
-        a.legend(fontsize=8)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _finish(fig, ax, path)
