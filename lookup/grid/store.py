@@ -180,34 +180,24 @@ def _read_nc(path: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], 
             if version is None or int(version) != FORMAT_VERSION:
                 raise GridError(f"{src}: unsupported grid format version {version!r} "
                                 f"(this reader: {FORMAT_VERSION})")
-            axes: dict[str, np.ndarray] = {}
-            for n in AXES:
+            def read(kind: str, n: str, dims: tuple[str, ...], unit: str) -> np.ndarray | None:
+                """One axis or variable, its problems appended to ``problems``."""
                 if n not in f.variables:
-                    problems.append(f"axis '{n}' is missing")
-                    continue
+                    problems.append(f"{kind} '{n}' is missing")
+                    return None
                 var = f.variables[n]
-                if var.dimensions != (n,):
-                    problems.append(f"axis '{n}' has dimensions {var.dimensions}, "
-                                    f"expected ({n!r},)")
+                if tuple(var.dimensions) != dims:
+                    problems.append(f"{kind} '{n}' has dimensions {var.dimensions}, "
+                                    f"expected {dims}")
                 units = var.attrs.get("units")
-                if units != AXIS_UNITS[n]:
-                    problems.append(f"axis '{n}' has units {units!r}, expected "
-                                    f"{AXIS_UNITS[n]!r}")
-                axes[n] = np.asarray(var[...], dtype=float)
-            variables: dict[str, np.ndarray] = {}
-            for n in VARIABLES:
-                if n not in f.variables:
-                    problems.append(f"variable '{n}' is missing")
-                    continue
-                var = f.variables[n]
-                if tuple(var.dimensions) != AXES:
-                    problems.append(f"variable '{n}' has dimensions {var.dimensions}, "
-                                    f"expected {AXES}")
-                units = var.attrs.get("units")
-                if units != VARIABLE_UNITS[n]:
-                    problems.append(f"variable '{n}' has units {units!r}, expected "
-                                    f"{VARIABLE_UNITS[n]!r}")
-                variables[n] = np.asarray(var[...], dtype=float)
+                if units != unit:
+                    problems.append(f"{kind} '{n}' has units {units!r}, expected {unit!r}")
+                return np.asarray(var[...], dtype=float)
+
+            axes = {n: a for n in AXES
+                    if (a := read("axis", n, (n,), AXIS_UNITS[n])) is not None}
+            variables = {n: a for n in VARIABLES
+                         if (a := read("variable", n, AXES, VARIABLE_UNITS[n])) is not None}
             text = f.attrs.get("meta_json")
             stored_hash = f.attrs.get("hash")
     except GridError:
