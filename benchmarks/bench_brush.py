@@ -18,27 +18,15 @@ from __future__ import annotations
 
 import argparse
 import json
-import statistics
-import time
 
 import numpy as np
+from timing import median_time
 
 from lookup.grid import FrictionGrid
 from tire_brush.friction import BranchTable, GridFriction
 from tire_brush.params import load_tire
 from tire_brush.steady import SteadyBrush
 from tire_brush.transient import TransientBrushTire
-
-
-def _median_time(fn, repeats: int, number: int) -> float:
-    """Median over ``repeats`` of the mean time of ``number`` calls [s]."""
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        for _ in range(number):
-            fn()
-        times.append((time.perf_counter() - t0) / number)
-    return statistics.median(times)
 
 
 def synthetic_grid() -> FrictionGrid:
@@ -73,15 +61,15 @@ def run(grid: str | None = None) -> dict:
     T = 293.15
     steady = SteadyBrush(tire, table)
     steady.solve(-0.05, 0.0, 20.0, 4000.0, T)
-    point = _median_time(lambda: steady.solve(-0.05, 0.01, 20.0, 4000.0, T), 11, 5)
+    point = median_time(lambda: steady.solve(-0.05, 0.01, 20.0, 4000.0, T), 11, 5)
     kappa = np.linspace(-0.3, 0.0, 50)
-    curve = _median_time(lambda: steady.solve(kappa, 0.0, 20.0, 4000.0, T), 7, 2)
+    curve = median_time(lambda: steady.solve(kappa, 0.0, 20.0, 4000.0, T), 7, 2)
 
     model = TransientBrushTire(tire, table)
     omega = 20.0 * 0.95 / tire.R_e
     for _ in range(200):
         model.step(1e-3, 20.0, 0.4, omega, 4000.0, T)
-    step = _median_time(lambda: model.step(1e-3, 20.0, 0.4, omega, 4000.0, T), 15, 200)
+    step = median_time(lambda: model.step(1e-3, 20.0, 0.4, omega, 4000.0, T), 15, 200)
     return {"friction": label, "steady_point_us": point * 1e6,
             "steady_curve_per_point_us": curve / kappa.size * 1e6,
             "steady_n_elements": steady.n_elements,

@@ -14,9 +14,9 @@ from __future__ import annotations
 import argparse
 import json
 import statistics
-import time
 
 import numpy as np
+from timing import median_time
 
 from lookup.compound import load_compound
 from lookup.friction import PerssonFriction
@@ -25,13 +25,6 @@ from lookup.surface import load_surface
 PUBLIC_REFERENCE_S = 5.0  # lower end of the 5-8 s per point quoted in issue 2
 
 
-def _median_time(fn, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
 
 
 def bench_case(comp: str, surf: str, rng: np.random.Generator, repeat: int) -> dict:
@@ -46,8 +39,8 @@ def bench_case(comp: str, surf: str, rng: np.random.Generator, repeat: int) -> d
             m._kernels.clear()  # a fresh speed each call: include the heat kernel
             getattr(m, branch)(v[i], T[i], p[i])
 
-    cold1 = _median_time(lambda: single("cold"), repeat) / v.size
-    hot1 = _median_time(lambda: single("hot"), repeat) / v.size
+    cold1 = median_time(lambda: single("cold"), repeat) / v.size
+    hot1 = median_time(lambda: single("hot"), repeat) / v.size
     Tg = np.linspace(253.15, 393.15, 15)
     pg = np.geomspace(5e4, 2e6, 6)
 
@@ -55,7 +48,7 @@ def bench_case(comp: str, surf: str, rng: np.random.Generator, repeat: int) -> d
         m._kernels.clear()
         m.grid_slice(vv, Tg, pg)
 
-    sl = [_median_time(lambda vv=vv: slice_(vv), max(1, repeat // 2)) / (Tg.size * pg.size)
+    sl = [median_time(lambda vv=vv: slice_(vv), max(1, repeat // 2)) / (Tg.size * pg.size)
           for vv in (1e-5, 1e-2, 1.0, 30.0)]
     return {"compound": comp, "surface": surf, "n_q": int(m.q.size),
             "cold_single_ms": cold1 * 1e3, "hot_single_ms": hot1 * 1e3,

@@ -16,25 +16,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import statistics
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
+from timing import median_time
 
 from lookup.grid.reader import VARIABLES, FrictionGrid
-
-
-def _median_time(fn, repeats: int, number: int) -> float:
-    """Median over ``repeats`` of the mean time of ``number`` calls [s]."""
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        for _ in range(number):
-            fn()
-        times.append((time.perf_counter() - t0) / number)
-    return statistics.median(times)
 
 
 def default_shaped_grid() -> FrictionGrid:
@@ -58,12 +46,12 @@ def bench_query() -> dict:
                 10 ** rng.uniform(np.log10(5e4), np.log10(2e6), n))
 
     v, T, p = points(100_000)
-    t_batch = _median_time(lambda: g.interpolate(v, T, p), repeats=7, number=5)
+    t_batch = median_time(lambda: g.interpolate(v, T, p), repeats=7, number=5)
     v1, T1, p1 = points(100)
-    t_100 = _median_time(lambda: g.interpolate(v1, T1, p1), repeats=7, number=2000)
-    t_1 = _median_time(lambda: g.interpolate(0.5, 300.0, 2e5), repeats=7, number=2000)
+    t_100 = median_time(lambda: g.interpolate(v1, T1, p1), repeats=7, number=2000)
+    t_1 = median_time(lambda: g.interpolate(0.5, 300.0, 2e5), repeats=7, number=2000)
     v1[:10] = 0.0  # standstill elements (floored at v_min)
-    t_100_clamp = _median_time(lambda: g.interpolate(v1, T1 + 200.0, p1), repeats=7,
+    t_100_clamp = median_time(lambda: g.interpolate(v1, T1 + 200.0, p1), repeats=7,
                                number=2000)
     return {"grid_shape": list(g.shape),
             "batched_1e5_us_per_point": t_batch / 1e5 * 1e6,

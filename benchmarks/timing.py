@@ -1,0 +1,19 @@
+"""Timing helper shared by the benchmark scripts (run as ``python benchmarks/bench_*.py``,
+which puts this folder on ``sys.path``)."""
+
+from __future__ import annotations
+
+import statistics
+import time
+from collections.abc import Callable
+
+
+def median_time(fn: Callable[[], object], repeats: int, number: int = 1) -> float:
+    """Median over ``repeats`` of the mean time of ``number`` calls of ``fn`` [s]."""
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        for _ in range(number):
+            fn()
+        times.append((time.perf_counter() - t0) / number)
+    return statistics.median(times)
