@@ -148,6 +148,46 @@ def test_nan_query_refused():
         g.interpolate([1.0, 1.0], [300.0, np.nan], 1e5)
 
 
+def test_negative_pressure_refused():
+    g = make_grid()
+    with pytest.warns(RuntimeWarning), pytest.raises(GridError, match="p must be > 0 Pa"):
+        g.interpolate([1.0, 1.0], 300.0, [1e5, -2.0])
+
+
+@pytest.mark.parametrize("uniform", [True, "mixed"], ids=["uniform-axes", "mixed-axes"])
+def test_chunked_query_equals_small_queries(uniform):
+    """A query longer than one chunk gives bit-identical values and the same clamp counts as
+    the same points asked for in calls of 100 (the brush's size), including clamped points."""
+    g = make_grid(uniform)
+    n = 2 * FrictionGrid._CHUNK + 37
+    lv, T, lp = random_queries(g, n, seed=RNG_SEED + 7)
+    T[::50] += 200.0  # some above the T axis
+    lp[7::90] -= 2.0  # some below the p axis
+    big = g.interpolate(10**lv, T, 10**lp, names=("mu_hot", "dT_flash"))
+    counts_big = g.out_of_range_detail
+    g.reset_out_of_range_count()
+    parts = [g.interpolate(10**lv[s:s + 100], T[s:s + 100], 10**lp[s:s + 100],
+                           names=("mu_hot", "dT_flash")) for s in range(0, n, 100)]
+    for name in ("mu_hot", "dT_flash"):
+        small = np.concatenate([q[name] for q in parts])
+        assert np.array_equal(big[name], small), f"{name}: chunking must not change values"
+    assert g.out_of_range_detail == counts_big, "chunking must not change the clamp counts"
+    assert counts_big["T"]["above"] == len(range(0, n, 50)), "every clamped T is counted"
+
+
+def test_small_query_constants_stay_bounded():
+    """Per-size constants are cached for small queries (a brush asks for varying sizes); the
+    cache is bounded and the values do not depend on it."""
+    g = make_grid()
+    fresh = make_grid()
+    lv, T, lp = random_queries(g, 300, seed=RNG_SEED + 3)
+    for n in range(1, 300):
+        got = g.interpolate(10**lv[:n], T[:n], 10**lp[:n], names=("mu_cold",))["mu_cold"]
+        assert len(g._affine_small) <= FrictionGrid._SMALL_SIZES, "cache must stay bounded"
+    ref = fresh.interpolate(10**lv[:299], T[:299], 10**lp[:299], names=("mu_cold",))["mu_cold"]
+    assert np.array_equal(got, ref), "values must not depend on the cache state"
+
+
 def test_unknown_name_refused():
     g = make_grid(names=("mu_cold", "mu_hot", "dT_flash"))
     with pytest.raises(GridError, match="no variable 'area_hot'"):
