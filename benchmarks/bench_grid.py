@@ -4,7 +4,8 @@ Run ``python benchmarks/bench_grid.py [--json] [--build-slices N] [--full-build]
 
 * query: median time of ``FrictionGrid.interpolate`` (mu_cold, mu_hot, dT_flash) for one
   batched call of 1e5 random points [us/point] and for one call of 100 points [us/call]
-  (targets: <= 1 us/point, <= 20 us/call), on a grid of the default spec's shape;
+  (targets: <= 1 us/point, <= 20 us/call), on a grid of the default spec's shape; the same
+  with the optional monotone cubic along log10 v (``v_interp="pchip"``);
 * build: grid nodes (cold and hot) per second per core of the real engine on a subset of the
   default spec's slip-speed slices (serial, so that one core is measured), and the implied
   time of the full default grid on this machine's cores; ``--full-build`` builds the whole
@@ -51,12 +52,18 @@ def bench_query() -> dict:
     t_100 = median_time(lambda: g.interpolate(v1, T1, p1), repeats=7, number=2000)
     t_1 = median_time(lambda: g.interpolate(0.5, 300.0, 2e5), repeats=7, number=2000)
     v1[:10] = 0.0  # standstill elements (floored at v_min)
+    t_100_pchip = median_time(lambda: g.interpolate(v1, T1, p1, v_interp="pchip"), repeats=7,
+                              number=2000)
+    t_batch_pchip = median_time(lambda: g.interpolate(v, T, p, v_interp="pchip"), repeats=7,
+                                number=5)
     t_100_clamp = median_time(lambda: g.interpolate(v1, T1 + 200.0, p1), repeats=7,
                                number=2000)
     return {"grid_shape": list(g.shape),
             "batched_1e5_us_per_point": t_batch / 1e5 * 1e6,
             "call_100_points_us": t_100 * 1e6,
             "call_1_point_us": t_1 * 1e6,
+            "pchip_batched_1e5_us_per_point": t_batch_pchip / 1e5 * 1e6,
+            "pchip_call_100_points_us": t_100_pchip * 1e6,
             "call_100_points_all_T_clamped_us": t_100_clamp * 1e6,
             "targets": {"batched_1e5_us_per_point": 1.0, "call_100_points_us": 20.0}}
 
@@ -105,6 +112,8 @@ def main() -> None:
     print(f"  one call, 100 points {q['call_100_points_us']:8.2f} us         (target 20)")
     print(f"  one call, 1 point    {q['call_1_point_us']:8.2f} us")
     print(f"  100 points, clamped  {q['call_100_points_all_T_clamped_us']:8.2f} us")
+    print(f"  pchip along v: batched {q['pchip_batched_1e5_us_per_point']:.3f} us/point, "
+          f"100 points {q['pchip_call_100_points_us']:.2f} us")
     if "build" in res:
         b = res["build"]
         print(f"build (real engine, {b['slices']} slices = {b['points']} nodes, serial):")

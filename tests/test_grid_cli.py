@@ -64,6 +64,17 @@ def test_query_json_keys_and_values(capsys, linear_grid):
     assert "clamped" in err, "clamping is reported on stderr"
 
 
+def test_query_pchip_along_v(capsys, linear_grid):
+    """--v-interp pchip: data linear in log10 v stay exact (PCHIP reproduces lines)."""
+    _, path = linear_grid
+    code, out, _ = run(capsys, "grid", "query", str(path), "--v", "1e-3,0.1", "--T", "20",
+                       "--p", "3e5", "--v-interp", "pchip", "--json")
+    assert code == 0
+    data = json.loads(out)
+    assert data["v_interp"] == "pchip"
+    np.testing.assert_allclose([q["mu_cold"] for q in data["points"]], [0.2, 0.4], rtol=1e-12)
+
+
 def test_query_text(capsys, linear_grid):
     _, path = linear_grid
     code, out, _ = run(capsys, "grid", "query", str(path), "--v", "0.01", "--T", "20",

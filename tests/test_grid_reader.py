@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from lookup.errors import GridError
-from lookup.grid.reader import AXES, VARIABLES, FrictionGrid, content_hash
+from lookup.grid.reader import AXES, VARIABLES, FrictionGrid, content_hash, pchip_slopes
 
 RNG_SEED = 20240611
 
@@ -186,6 +186,87 @@ def test_small_query_constants_stay_bounded():
         assert len(g._affine_small) <= FrictionGrid._SMALL_SIZES, "cache must stay bounded"
     ref = fresh.interpolate(10**lv[:299], T[:299], 10**lp[:299], names=("mu_cold",))["mu_cold"]
     assert np.array_equal(got, ref), "values must not depend on the cache state"
+
+
+def test_pchip_slopes_match_scipy():
+    """The Fritsch-Butland slopes equal scipy's PchipInterpolator derivatives at the nodes
+    (same formulas; 1e-12 relative is rounding), on unequal spacing with extrema and flats."""
+    from scipy.interpolate import PchipInterpolator
+
+    rng = np.random.default_rng(RNG_SEED + 11)
+    x = np.cumsum(rng.uniform(0.2, 1.0, 25))
+    y = np.c_[np.sin(x), np.cumsum(rng.uniform(0, 1, 25)), rng.normal(size=25),
+              np.r_[np.zeros(10), np.ones(15)]]
+    ref = PchipInterpolator(x, y, axis=0).derivative()(x)
+    np.testing.assert_allclose(pchip_slopes(x, y), ref, rtol=1e-12, atol=1e-12)
+    two = pchip_slopes(x[:2], y[:2])
+    np.testing.assert_allclose(two, np.repeat((y[1:2] - y[:1]) / (x[1] - x[0]), 2, axis=0),
+                               rtol=1e-14, err_msg="two nodes: the secant slope")
+
+
+@pytest.mark.parametrize("uniform", [True, False], ids=["uniform-axes", "nonuniform-axes"])
+def test_pchip_along_v_equals_scipy_on_node_lines(uniform):
+    """With T and p on nodes, the v_interp="pchip" query is scipy's PCHIP along log10 v
+    (1e-12: rounding of the monomial form)."""
+    from scipy.interpolate import PchipInterpolator
+
+    g0 = make_grid(uniform)
+    rng = np.random.default_rng(RNG_SEED + 12)
+    field = rng.normal(size=g0.shape).cumsum(axis=0)
+    g = FrictionGrid(g0.log10_v, g0.T, g0.log10_p,
+                     {"mu_cold": field, "mu_hot": -field, "dT_flash": field**2},
+                     {"s0_m": 2e-4, "D_m": 1e-3})
+    j = rng.integers(0, g.shape[1], 400)
+    k = rng.integers(0, g.shape[2], 400)
+    lv = rng.uniform(g.log10_v[0], g.log10_v[-1], 400)
+    got = g.interpolate(10**lv, g.T[j], 10**g.log10_p[k], v_interp="pchip")
+    for name in ("mu_cold", "dT_flash"):
+        spline = PchipInterpolator(g.log10_v, g[name], axis=0)
+        ref = spline(lv)[np.arange(400), j, k]
+        np.testing.assert_allclose(got[name], ref, rtol=0, atol=1e-12 * np.abs(g[name]).max(),
+                                   err_msg=f"{name}: PCHIP along log10 v")
+
+
+@pytest.mark.parametrize("uniform", [True, False, "mixed"],
+                         ids=["uniform-axes", "nonuniform-axes", "mixed-axes"])
+def test_pchip_exact_on_multilinear_field_and_nodes(uniform):
+    """PCHIP reproduces data linear in log10 v, so a multilinear field stays exact; node values
+    are reproduced (1e-12: rounding)."""
+    g = make_grid(uniform)
+    lv, T, lp = random_queries(g, 5000)
+    out = g.interpolate(10**lv, T, 10**lp, names=("mu_cold", "mu_hot"), v_interp="pchip")
+    np.testing.assert_allclose(out["mu_cold"], multilinear(lv, T, lp), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(out["mu_hot"], multilinear(lv, T, lp, k=2.0), rtol=0,
+                               atol=2e-12)
+    LV, TT, LP = np.meshgrid(g.log10_v, g.T, g.log10_p, indexing="ij")
+    nodes = g.interpolate(10**LV, TT, 10**LP, names=("dT_flash",), v_interp="pchip")
+    np.testing.assert_allclose(nodes["dT_flash"], g["dT_flash"], rtol=1e-13, atol=1e-13)
+    assert sum(g.out_of_range_count.values()) == 0
+
+
+def test_pchip_keeps_monotone_data_monotone_without_overshoot():
+    """Node values rising in v with steps of very different size (where a plain cubic spline
+    overshoots) give a non-decreasing interpolant within the node range, at any T and p."""
+    g0 = make_grid()
+    rng = np.random.default_rng(RNG_SEED + 13)
+    steps = rng.uniform(0, 1, g0.shape) * (rng.uniform(size=g0.shape) < 0.2)
+    field = np.cumsum(steps, axis=0)
+    g = FrictionGrid(g0.log10_v, g0.T, g0.log10_p,
+                     {"mu_cold": field, "mu_hot": field, "dT_flash": field},
+                     {"s0_m": 2e-4, "D_m": 1e-3})
+    lv = np.linspace(g.log10_v[0], g.log10_v[-1], 4001)
+    for T, lp in rng.uniform([g.T[0], g.log10_p[0]], [g.T[-1], g.log10_p[-1]], (20, 2)):
+        mu = g.interpolate(10**lv, T, 10**lp, names=("mu_cold",), v_interp="pchip")["mu_cold"]
+        assert np.all(np.diff(mu) >= -1e-12), "monotone nodes give a monotone interpolant"
+        lin = g.interpolate(10**lv, T, 10**lp, names=("mu_cold",))["mu_cold"]
+        assert mu.min() >= lin.min() - 1e-12 and mu.max() <= lin.max() + 1e-12, \
+            "no overshoot beyond the node range"
+
+
+def test_unknown_v_interp_refused():
+    g = make_grid()
+    with pytest.raises(GridError, match="unknown interpolation along log10 v 'cubic'"):
+        g.interpolate(1.0, 300.0, 1e5, v_interp="cubic")
 
 
 def test_unknown_name_refused():

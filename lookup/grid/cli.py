@@ -15,6 +15,7 @@ import numpy as np
 
 from ..cli import MU_KEYS, dump_json, parse_float, parse_float_list, print_table
 from ..errors import InputError
+from .reader import V_INTERPOLATIONS
 
 KELVIN = 273.15
 
@@ -55,6 +56,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     q.add_argument("--v", required=True, help="slip speed(s) [m/s], comma separated")
     q.add_argument("--T", required=True, help="background temperature [Celsius]")
     q.add_argument("--p", required=True, help="nominal contact pressure [Pa]")
+    q.add_argument("--v-interp", choices=V_INTERPOLATIONS, default="linear",
+                   help="interpolation along log10 v: linear (default, as the tire model and "
+                        "FMU) or pchip (monotone cubic); linear in T and log p either way")
     q.add_argument("--json", action="store_true", help="print JSON with a list 'points'")
     q.set_defaults(func=_run_query)
 
@@ -132,13 +136,14 @@ def _run_query(args: argparse.Namespace) -> int:
         raise InputError("temperature below absolute zero", source="--T", value=args.T)
     grid = load_grid(args.grid)
     names = tuple(k for k in MU_KEYS if k != "v")
-    out = grid.interpolate(np.array(v), T_C + KELVIN, p, names=names)
+    out = grid.interpolate(np.array(v), T_C + KELVIN, p, names=names, v_interp=args.v_interp)
     rows = [{"v": vi, **{n: float(out[n][j]) for n in names}} for j, vi in enumerate(v)]
     clamped = {k: c for k, c in grid.out_of_range_detail.items() if c["below"] or c["above"]}
     if args.json:
         dump_json({"grid": grid.source, "hash": grid.hash,
                    "compound": grid.meta.get("compound_name"),
                    "surface": grid.meta.get("surface_name"), "T_C": T_C, "p_Pa": p,
+                   "v_interp": args.v_interp,
                    "points": rows, "clamped": clamped})
     else:
         print(f"# grid {grid.source} ({grid.hash[:19]}), T = {T_C:g} C, p = {p:g} Pa")

@@ -94,6 +94,59 @@ FORMAT_VERSION = 1
 NPZ_FORMAT = "tirefric-friction-grid"
 
 DEFAULT_NAMES: tuple[str, ...] = ("mu_cold", "mu_hot", "dT_flash")
+#: Interpolations along log10 v offered by :meth:`FrictionGrid.interpolate`.
+V_INTERPOLATIONS: tuple[str, ...] = ("linear", "pchip")
+
+
+def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Node slopes dy/dx of the monotone piecewise cubic Hermite interpolant along axis 0.
+
+    Fritsch and Carlson's method in the form of Fritsch and Butland (SIAM J. Sci. Stat.
+    Comput. 5, 300, 1984), as in scipy's ``PchipInterpolator``: at an interior node the
+    slope is 0 where the secant slopes change sign (a local extremum) and otherwise their
+    weighted harmonic mean with weights ``w1 = 2 h_k + h_{k-1}``, ``w2 = h_k + 2 h_{k-1}``;
+    at the ends a one-sided three-point estimate, set to 0 if its sign differs from the end
+    secant's and limited to three times that secant where the secants change sign. The
+    resulting cubic is monotone on every interval whose end values are monotone with their
+    neighbours', and reproduces linear data exactly.
+
+    Parameters
+    ----------
+    x
+        Strictly ascending nodes, shape ``(n,)``, n >= 2.
+    y
+        Values, shape ``(n, ...)``.
+
+    Returns
+    -------
+    ndarray
+        Slopes, shape of ``y``.
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    h = np.diff(x).reshape((-1,) + (1,) * (y.ndim - 1))
+    delta = np.diff(y, axis=0) / h
+    d = np.zeros_like(y)
+    if x.size == 2:
+        d[:] = delta[0]
+        return d
+    h0, h1 = h[:-1], h[1:]
+    d0, d1 = delta[:-1], delta[1:]
+    w1, w2 = 2.0 * h1 + h0, h1 + 2.0 * h0
+    same = (d0 * d1) > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        harmonic = (w1 + w2) / (w1 / d0 + w2 / d1)
+    d[1:-1] = np.where(same, harmonic, 0.0)
+
+    def end(hA: np.ndarray, hB: np.ndarray, dA: np.ndarray, dB: np.ndarray) -> np.ndarray:
+        e = ((2.0 * hA + hB) * dA - hA * dB) / (hA + hB)
+        e = np.where(np.sign(e) != np.sign(dA), 0.0, e)
+        return np.where((np.sign(dA) != np.sign(dB)) & (np.abs(e) > 3.0 * np.abs(dA)),
+                        3.0 * dA, e)
+
+    d[0] = end(h[0], h[1], delta[0], delta[1])
+    d[-1] = end(h[-1], h[-2], delta[-1], delta[-2])
+    return d
 
 
 def content_hash(axes: Mapping[str, np.ndarray], variables: Mapping[str, np.ndarray]) -> str:
@@ -475,53 +528,62 @@ class FrictionGrid:
         self._affine_small[n] = arrays  # type: ignore[assignment]
         return arrays  # type: ignore[return-value]
 
-    def _coefficients(self, names: tuple[str, ...]) -> np.ndarray:
-        """Monomial coefficients of the trilinear interpolant of every cell.
+    def _coefficients(self, names: tuple[str, ...], v_interp: str = "linear") -> np.ndarray:
+        """Monomial coefficients of the interpolant of every cell.
 
-        Returns an array ``Q`` of shape ``(n_cells, 8 * len(names))`` whose row ``r``, read as
-        ``(8, len(names))``, holds the coefficients of cell ``r`` such that inside the cell,
-        with fractional coordinates ``(fx, fy, fz)`` along (log10 v, T, log10 p),
+        The interpolant is ``sum c_abc fx^a fy^b fz^c`` in the fractional coordinates
+        ``(fx, fy, fz)`` of the cell along (log10 v, T, log10 p), with ``b, c`` in {0, 1}
+        (linear in T and log10 p) and ``a = 0 .. K``: K = 1 for ``v_interp="linear"``
+        (trilinear) and K = 3 for ``"pchip"`` (the cubic Hermite polynomial of
+        :func:`pchip_slopes` along log10 v).
 
-        ``value = (Q0 + fz Q4) + fy (Q2 + fz Q6) + fx [(Q1 + fz Q5) + fy (Q3 + fz Q7)]``,
-
-        i.e. ``Q[0:4] = (c000, c100, c010, c110)`` and ``Q[4:8] = (c001, c101, c011, c111)``
-        in ``sum c_abc fx^a fy^b fz^c``. Evaluating this nested form takes six array
-        operations, fewer than forming the eight corner weights. One cell is one contiguous
-        row, so that gathering the cells of a query reads a few cache lines per point.
+        Returns an array ``Q`` of shape ``(n_cells, 4 (K + 1) len(names))``; row ``r``, read as
+        ``(4 (K + 1), len(names))``, holds cell ``r``'s coefficients in the order
+        ``index = c 2 (K + 1) + b (K + 1) + a``, so that the value is evaluated in nested form
+        (z, then y, then a Horner step per power of fx): six array operations for the
+        trilinear case, fewer than forming the eight corner weights. One cell is one
+        contiguous row, so that gathering the cells of a query reads a few cache lines per
+        point.
         """
-        table = self._coef_cache.get(names)
+        key = (names, v_interp)
+        table = self._coef_cache.get(key)
         if table is None:
+            if v_interp not in V_INTERPOLATIONS:
+                raise GridError(f"{self.source}: unknown interpolation along log10 v "
+                                f"{v_interp!r} (known: {', '.join(V_INTERPOLATIONS)})")
             for nm in names:
                 if nm not in self.variables:
                     raise GridError(f"{self.source}: no variable '{nm}' "
                                     f"(present: {', '.join(self.variables)})")
             nv, nT, np_ = self.shape
-            stacked = np.stack([self.variables[nm] for nm in names], axis=-1)
-            V = np.pad(stacked, ((0, 1), (0, 1), (0, 1), (0, 0)), mode="edge")
-
-            def corner(a: int, b: int, c: int) -> np.ndarray:
-                return V[a:a + nv, b:b + nT, c:c + np_, :]
-
-            v000, v100, v010, v001 = corner(0, 0, 0), corner(1, 0, 0), corner(0, 1, 0), \
-                corner(0, 0, 1)
-            v110, v101, v011, v111 = corner(1, 1, 0), corner(1, 0, 1), corner(0, 1, 1), \
-                corner(1, 1, 1)
-            coef = (
-                v000,
-                v100 - v000,
-                v010 - v000,
-                v110 - v100 - v010 + v000,
-                v001 - v000,
-                v101 - v100 - v001 + v000,
-                v011 - v010 - v001 + v000,
-                v111 - v110 - v101 - v011 + v100 + v010 + v001 - v000,
-            )
-            table = np.empty((nv * nT * np_, 8, len(names)))
-            for k, ck in enumerate(coef):
-                table[:, k, :] = ck.reshape(-1, len(names))
-            table = table.reshape(nv * nT * np_, 8 * len(names))
+            m = len(names)
+            y = np.stack([self.variables[nm] for nm in names], axis=-1)  # (nv, nT, np, m)
+            # coefficients of fx^a on each v cell (the last node's cell is only used at fx = 0)
+            dy = np.zeros_like(y)
+            dy[:-1] = y[1:] - y[:-1]
+            if v_interp == "linear":
+                powers = [y, dy]
+            else:
+                h = np.diff(self.log10_v)[:, None, None, None]
+                d = pchip_slopes(self.log10_v, y)
+                hd0 = np.zeros_like(y)
+                hd1 = np.zeros_like(y)
+                hd0[:-1] = h * d[:-1]
+                hd1[:-1] = h * d[1:]
+                powers = [y, hd0, 3.0 * dy - 2.0 * hd0 - hd1, hd0 + hd1 - 2.0 * dy]
+            k = len(powers)
+            table = np.empty((nv * nT * np_, 4 * k, m))
+            for a_, A in enumerate(powers):
+                P = np.pad(A, ((0, 0), (0, 1), (0, 1), (0, 0)), mode="edge")
+                A00, A10 = P[:, :nT, :np_], P[:, 1:, :np_]
+                A01, A11 = P[:, :nT, 1:], P[:, 1:, 1:]
+                for (b_, c_), C in zip(((0, 0), (1, 0), (0, 1), (1, 1)),
+                                       (A00, A10 - A00, A01 - A00, A11 - A10 - A01 + A00),
+                                       strict=True):
+                    table[:, c_ * 2 * k + b_ * k + a_, :] = C.reshape(-1, m)
+            table = table.reshape(nv * nT * np_, 4 * k * m)
             table.flags.writeable = False
-            self._coef_cache[names] = table
+            self._coef_cache[key] = table
         return table
 
     def _out_of_range(self, t: np.ndarray, p: np.ndarray) -> None:
@@ -551,8 +613,9 @@ class FrictionGrid:
         T: Any,
         p: Any,
         names: Sequence[str] = DEFAULT_NAMES,
+        v_interp: str = "linear",
     ) -> dict[str, np.ndarray]:
-        """Multilinear interpolation in (log10 |v|, T, log10 p).
+        """Interpolation in (log10 |v|, T, log10 p): multilinear, or monotone cubic along v.
 
         Parameters
         ----------
@@ -565,6 +628,11 @@ class FrictionGrid:
             Nominal pressure(s) [Pa], > 0 (p = 0 reads the lowest pressure and is counted).
         names
             Variables to return.
+        v_interp
+            Along log10 v: ``"linear"`` (default; trilinear interpolation) or ``"pchip"``
+            (piecewise cubic Hermite with Fritsch-Carlson slopes, :func:`pchip_slopes`: it
+            keeps monotone runs of the nodes monotone and does not overshoot; linear in T and
+            log10 p either way). Both reproduce the node values.
 
         Returns
         -------
@@ -574,7 +642,8 @@ class FrictionGrid:
         Raises
         ------
         GridError
-            NaN in a query coordinate, a negative pressure, or an unknown variable name.
+            NaN in a query coordinate, a negative pressure, or an unknown variable name or
+            ``v_interp``.
 
         Notes
         -----
@@ -590,9 +659,10 @@ class FrictionGrid:
         pressure and counted; a negative pressure is refused.
         """
         names = names if type(names) is tuple else tuple(names)
-        Q = self._coef_cache.get(names)
+        Q = self._coef_cache.get((names, v_interp))
         if Q is None:
-            Q = self._coefficients(names)
+            Q = self._coefficients(names, v_interp)
+        degree = 1 if v_interp == "linear" else 3
         v = np.asarray(v, dtype=float)
         T = np.asarray(T, dtype=float)
         p = np.asarray(p, dtype=float)
@@ -606,18 +676,20 @@ class FrictionGrid:
         if n <= self._CHUNK:
             if n == 0:
                 return {nm: np.empty(shape) for nm in names}
-            out = self._interpolate_chunk(Q, len(names), v, T, p)
+            out = self._interpolate_chunk(Q, len(names), degree, v, T, p)
         else:  # chunks keep the working set in cache (and memory bounded)
             out = np.empty((len(names), n))
             for s in range(0, n, self._CHUNK):
                 e = s + self._CHUNK
-                out[:, s:e] = self._interpolate_chunk(Q, len(names), v[s:e], T[s:e], p[s:e])
+                out[:, s:e] = self._interpolate_chunk(Q, len(names), degree, v[s:e], T[s:e],
+                                                      p[s:e])
         if len(shape) == 1:
             return dict(zip(names, out, strict=False))  # (strict=True costs 0.5 us)
         return {nm: out[j].reshape(shape) for j, nm in enumerate(names)}
 
     def _interpolate_chunk(
-        self, Q: np.ndarray, n_names: int, v: np.ndarray, T: np.ndarray, p: np.ndarray,
+        self, Q: np.ndarray, n_names: int, degree: int, v: np.ndarray, T: np.ndarray,
+        p: np.ndarray,
     ) -> np.ndarray:
         """The interpolation of :meth:`interpolate` on 1-D inputs of one length ``n`` > 0.
 
@@ -657,21 +729,25 @@ class FrictionGrid:
         t -= node
         # flat cell index, exact in float64 (< 2**53); float ops avoid int-float mixing
         cell = (self._strides_f @ node).astype(np.intp)
-        c = Q.take(cell, axis=0).T.copy().reshape(8, n_names, n)  # (8, n_names, n)
-        a = c[4:8]  # c is a fresh copy: safe to update in place
+        k = degree + 1
+        c = Q.take(cell, axis=0).T.copy().reshape(4 * k, n_names, n)
+        a = c[2 * k:]  # c is a fresh copy: safe to update in place
         a *= t[2]
-        a += c[0:4]
-        b = a[2:4]
+        a += c[:2 * k]
+        b = a[k:]
         b *= t[1]
-        b += a[0:2]
-        out = b[1]
-        out *= t[0]
-        out += b[0]
+        b += a[:k]
+        out = b[degree]  # Horner in fx
+        for j in range(degree - 1, -1, -1):
+            out *= t[0]
+            out += b[j]
         return out
 
-    def interpolate_one(self, name: str, v: Any, T: Any, p: Any) -> np.ndarray:
-        """Interpolate a single variable; shorthand for ``interpolate(v, T, p, (name,))[name]``."""
-        return self.interpolate(v, T, p, (name,))[name]
+    def interpolate_one(
+        self, name: str, v: Any, T: Any, p: Any, v_interp: str = "linear",
+    ) -> np.ndarray:
+        """One variable; shorthand for ``interpolate(v, T, p, (name,), v_interp)[name]``."""
+        return self.interpolate(v, T, p, (name,), v_interp)[name]
 
     # -- numpy-only persistence ---------------------------------------------------------------
     def save_npz(self, path: str | Path) -> Path:
