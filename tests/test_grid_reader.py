@@ -94,6 +94,22 @@ def test_matches_scipy_regular_grid_interpolator():
                                err_msg="trilinear interpolation must equal scipy's")
 
 
+def test_axis_end_in_range_despite_rounding():
+    """On T = linspace(253.15, 373.15, 32), (T_max - T_min) * (31 / (T_max - T_min)) rounds to
+    just above 31: a query at T_max must still be in range (not counted) and give the node."""
+    T = np.linspace(253.15, 373.15, 32)
+    assert (T[-1] - T[0]) * (31 / (T[-1] - T[0])) > 31, "the example must show the rounding"
+    lv = np.linspace(-6.0, 1.6, 5)
+    lp = np.array([4.7, 6.3])
+    LV, TT, LP = np.meshgrid(lv, T, lp, indexing="ij")
+    field = multilinear(LV, TT, LP)
+    g = FrictionGrid(lv, T, lp, {"mu_cold": field, "mu_hot": field, "dT_flash": field},
+                     {"s0_m": 2e-4, "D_m": 1e-3})
+    out = g.interpolate(1.0, T[-1], 1e5, names=("mu_cold",))["mu_cold"]
+    assert g.out_of_range_count["T"] == 0, "a query on the last node is in range"
+    np.testing.assert_allclose(out, multilinear(0.0, T[-1], 5.0), rtol=1e-13)
+
+
 def test_broadcasting_and_shapes():
     g = make_grid()
     v = np.logspace(-5, 1, 7)[:, None]

@@ -487,9 +487,10 @@ class FrictionGrid:
         """Precompute what the interpolation needs (index maps, strides, cell coefficients).
 
         Each coordinate maps to a fractional node index ``t = (x - x_0) * scale`` (``x`` is
-        log10 v, T or log10 p, ``x_0`` the first node) on an equally spaced axis, exact at
-        both ends; an unequally spaced axis keeps ``x`` (``x_0`` = 0, scale 1) and maps it
-        with ``np.interp`` on its nodes.
+        log10 v, T or log10 p, ``x_0`` the first node) on an equally spaced axis: 0 at the
+        first node and, after rounding, not above ``n - 1`` at the last (so a query on an
+        axis end is never counted as out of range); an unequally spaced axis keeps ``x``
+        (``x_0`` = 0, scale 1) and maps it with ``np.interp`` on its nodes.
         """
         ax = [self.axes[n] for n in AXES]
         n = np.array([a.size for a in ax])
@@ -498,6 +499,9 @@ class FrictionGrid:
         # axes with equal spacing map to fractional indices by arithmetic, others by np.interp
         self._nonuniform = [k for k, a in enumerate(ax) if not _is_uniform(a)]
         scale = (n - 1) / (hi - lo)
+        for k in range(3):
+            while (hi[k] - lo[k]) * scale[k] > n[k] - 1:
+                scale[k] = math.nextafter(scale[k], 0.0)
         offset = lo.copy()
         scale[self._nonuniform] = 1.0
         offset[self._nonuniform] = 0.0
