@@ -1,663 +1,733 @@
-r"""One time step of many brush (tread) elements: stick, or slide with eq. (28) friction.
+r"""Tread elements, belt and tread temperature: the readable reference of the compiled core.
 
-The element (per unit footprint area) is a tip of mass ``m`` joined to the belt by a shear
-spring ``k`` and a damper ``d`` (Kelvin-Voigt), anisotropic in x and y. With the deflection
-``u = tip - base`` [m], the tip's slip velocity over the road ``w`` [m/s] and the belt (base)
-slip velocity ``V_b`` [m/s]:
+This module is the tire core written out in plain Python floats, operation for operation the
+same as ``tire_brush/csrc/tirecore.c`` (the tests pin the two to each other). It is slow (one
+element sub-step costs ~30 us here and ~0.1 us in C) and is not used for simulation; it is the
+text to read, and docs/tire-core.md explains it.
 
-.. math::  \dot u = w - V_b, \qquad m \dot w = f - k u - d (w - V_b),
+The element (per unit footprint area): a tip of mass ``m`` on a Kelvin-Voigt shear spring
+(``k``, ``d``, anisotropic in x and y) to the belt. With the deflection ``u = tip - base``,
+the tip's slip velocity over the road ``w`` and the base (belt) slip velocity ``V_b``:
 
-where ``f`` is the friction stress from the road: while the tip sticks (``w = 0``),
-``|f| <= mu(0, s) p``; while it slides, ``f = -mu(|w|, s) p w/|w|`` with ``mu`` from eq. (28)
-of the review (:mod:`tire_brush.friction`), ``s`` the slipped distance since the element entered
-the footprint. The stress on the belt (the tire) is ``tau = k u + d (w - V_b)``.
+.. math::  \dot u = w - V_b, \qquad m \dot w = f - k u - d (w - V_b), \qquad \dot s = |w|,
 
-Time discretisation: implicit (backward) Euler for the linear part, so one step reads
+``f`` the friction stress: while the tip sticks (``w = 0``) whatever holds it, up to
+``mu(0+, s) p``; while it slides ``f = -p mu(|w|, s) w/|w|`` with eq. (28) of the review,
+``mu = mu_cold(|w|) e^{-s/s0} + mu_hot(|w|) (1 - e^{-s/s0})``, both branches read from the
+grid's table (piecewise linear in log10 v, constant below the first and above the last node).
+The stress on the belt is ``tau = k u + d (w - V_b)``.
 
-.. math::  A w^+ = g + f^+, \quad A = m/\Delta t + d + k \Delta t,
-           \quad g = (m/\Delta t) w - k u + (k \Delta t + d) V_b ;
+Time integration (per element, inside each outer step): the two-stage, stiffly accurate,
+L-stable SDIRK method of order 2 with ``gamma = 1 - 1/sqrt(2)`` (R. Alexander, SIAM J. Numer.
+Anal. 14, 1006 (1977); Hairer and Wanner, *Solving ODEs II*, sec. IV.6), with the embedded
+first-order solution ``y_n + h k_1`` for the local error and the usual step-size control
+(Hairer and Wanner, sec. IV.8). Each stage is an implicit Euler solve of step ``gamma h``,
 
-``-g`` is the friction needed to hold the tip (stick test ``|g| <= mu(0, s) p``); a sliding tip
-moves along ``(A + mu p/|w^+|)^{-1} g`` with ``|w^+|`` the root of
-``A_e V + p mu(V) = |g|`` (``A_e``: ``A`` weighted by the direction of ``g``; exact for
-isotropic elements and pure slip, one Newton step on the 2-D magnitude corrects combined slip).
-The root is sought from the previous speed (continuation: the tip's velocity is continuous):
-``n_newton - 1`` Newton steps in ``ln V`` on the table (piecewise linear in log10 v, with exact
-slopes), then the implicit solve with mu linearised at the last iterate.
+.. math::  A w - f(w) = g, \quad A = m/H + k H + d, \quad
+           g = (m/H) Z_w - k Z_u + (k H + d) V_b ,
 
-Eq. (28)'s cold weight is the mean of ``exp(-s(t)/s0)`` over the step at a predicted slip
-speed ``V_p`` (``ds = V_p dt``, ``s`` the slipped distance at the start of the step):
+which sticks if ``|g| <= p mu(0+, s)`` and otherwise slides with the speed ``V`` that solves
+``R(V) = 1 / |(A V + p mu(V, s_0 + H V))^{-1} g| - 1 = 0`` (``= (A V + p mu)/|g| - 1`` for an
+isotropic element). The root is *bracketed*: from the speed the element had, the table's
+cells are walked in the direction that the sign of ``R`` gives (``R < 0``: the tip
+accelerates, the first root above; ``R > 0``: the first root below), and the root in the
+bracketing cell is found by Newton's method safeguarded by bisection. No fixed iteration
+count, no slope limiter: a falling friction branch, however steep, costs only cell walks,
+and the error control resolves the stick-slip transitions (a step that crosses one has a
+large error and is retried shorter). Elements enter the patch with the tip moving with the
+belt (``u = 0``, ``w = V_b``, ``s = 0``), the pressure under an element follows it along the
+patch during the step (``p(x(t))``, parabolic).
 
-.. math::  E = \frac{s_0}{ds}\left(e^{-s/s_0} - e^{-(s + ds)/s_0}\right)
-             = e^{-s/s_0}\,\frac{-\mathrm{expm1}(-ds/s_0)}{ds/s_0}
-             \;\to\; e^{-s/s_0} \quad (ds \to 0),
+The belt (massless, springs ``k_c`` and dampers ``d_c`` to the rim) is coupled linearly
+implicitly: over an outer step ``h`` the tread force is ``F_n - J (V_b - V_{b,n})`` with ``J``
+the tread's stiffness against belt motion over the step, ``(k h + d)`` for a sticking element
+and ``(k h + d)(m/h + c)/(A + c)`` for a sliding one (``c = p mu/|w|``, the secant friction
+stiffness); a steady state (``F_n = k_c delta``, ``V_b = V_s``) is reproduced exactly whatever
+``J``, and every element, sliding or not, stiffens the belt (no period-2 chatter).
 
-evaluated in the second form (``ds/s0`` floored at :data:`W_FLOOR`, where the factor is 1 to
-rounding). Why the mean: with s0 ~ 0.2 mm a sliding element moves ``V dt`` >> s0 in one
-step (1 m/s x 1 ms = 1 mm), so the weight at either end of the step misstates the
-cold -> hot transition (at the end: the element is on the hot branch after one step). The
-mean makes the friction impulse over a step exact for constant slip
-speed: what is left is first order in the speed change over the step. Limits: s0 -> inf gives
-1 (cold only); s0 -> 0 gives ``s0/ds -> 0`` in an element's first sliding step, so the
-static/kinetic law switches to the kinetic value within it, as before; sticking elements
-(``V_p = 0``) get ``exp(-s/s0)``.
-
-Velocity weakening. A massless element (``m = d = 0``) gives ``A = k dt`` and a step that is
-ill posed on a falling mu(v) branch as dt -> 0 (physics-notes: several roots). The tip mass
-makes ``A >= m/dt`` grow as dt -> 0: the continuous model is well posed and the steps converge
-(tests: element count and step size). Where a step is too coarse for that
-(``A + p dmu/dV <= 0``), the Newton steps are damped and the falling slope in the final solve is
-limited to ``-0.9 A / p``: over that step the weakening is treated explicitly and the root
-nearest the previous speed is followed. On steep falling branches the elements stick-slip
-along the patch (physical for a massive slider with velocity weakening); forces then converge
-roughly first order in the cell size and the transient force carries a fluctuation of a few
-percent of Fz.
-
-This module imports only numpy: it runs inside an FMU.
+This module imports only the standard library: it runs inside an FMU.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
-import numpy as np
-
-from .friction import BranchTable, FrictionQuery
-from .params import TreadParams
-
-#: Elements slipping slower than this [m/s] count as adhering in the sliding fraction and the
-#: flash temperature (creep on the rising, low-speed branch of Persson's mu(v)); it does not
-#: change any force.
+#: SDIRK2 coefficient ``gamma = 1 - 1/sqrt(2)``.
+GAMMA = 0.2928932188134524
+#: Elements slipping slower than this [m/s] count as adhering in the sliding fraction.
 CREEP_SPEED = 1e-3
-#: Largest slipped distance carried [m] (eq. 28 is fully hot long before; keeps s finite).
+#: Smallest element sub-step [s]: accepted whatever its error.
+H_MIN = 1e-8
+#: Largest slipped distance carried [m].
 S_MAX = 1e6
-#: Fraction of A up to which a falling friction chord is treated implicitly (module docstring).
-SLOPE_LIMIT = 0.9
-#: Floor of ``Vp dt / s0`` in the step-averaged cold weight (module docstring): below it the
-#: weight's factor ``-expm1(-x)/x`` is 1 to rounding, and ``x = 0`` needs no branch.
-W_FLOOR = 1e-300
+#: Smallest rolling speed of the steady march [m/s] (a locked wheel).
+V_ROLL_MIN = 1e-6
+#: Columns of one element: u_x, u_y, w_x, w_y, s, proposed sub-step, in contact.
+N_ELEM = 7
+#: Head of the state vector (version, lattice size, x_top, belt deflection and velocity,
+#: tread force, tread temperature, time, 10 outputs).
+STATE_HEAD = 21
+#: State layout version.
+STATE_VERSION = 2
+LN10 = 2.302585092994046
 
 
-@dataclass(frozen=True)
-class ElementProps:
-    """Tread element properties as arrays shaped for broadcasting over ``(2, n)`` arrays.
-
-    Attributes
-    ----------
-    k, d : ndarray
-        Stiffness [N/m^3] and damping [N s/m^3] per unit area, shape ``(2, 1)`` (x, y).
-    m : float
-        Tip mass per unit area [kg/m^2].
-    isotropic : bool
-        Whether ``k`` and ``d`` are equal in x and y (then the slide solve is closed form).
-    """
-
-    k: np.ndarray
-    d: np.ndarray
-    m: float
-    isotropic: bool
-
-    @classmethod
-    def from_tread(cls, tread: TreadParams, *, massless: bool = False) -> ElementProps:
-        """Properties of :class:`~tire_brush.params.TreadParams`; ``massless`` drops the tip
-        mass and the damping (Pacejka's brush of ch. 3)."""
-        k = np.array([[tread.k_x], [tread.k_y]])
-        d = np.zeros((2, 1)) if massless else np.array([[tread.d_x], [tread.d_y]])
-        return cls(k, d, 0.0 if massless else float(tread.mass),
-                   bool(tread.k_x == tread.k_y and (massless or tread.d_x == tread.d_y)))
-
-
-@dataclass
-class StepResult:
-    """What one element step returns besides the updated state.
-
-    Attributes
-    ----------
-    tau : ndarray
-        Stress on the belt ``k u + d (w - V_b)`` at the end of the step [Pa], shape ``(2, n)``.
-    slide : ndarray
-        Bool, shape ``(n,)``: the element was friction-limited (not sticking) in this step.
-    friction : ndarray
-        Friction stress ``mu_scale mu p`` [Pa] of eq. (28) on sliding elements (undefined
-        where sticking).
-    speed : ndarray
-        Slip speed ``|w|`` at the end of the step [m/s] (0 where sticking).
-    cold : ndarray
-        Cold weight of eq. (28) averaged over the step at the predicted speed (module
-        docstring).
-    dT_flash : ndarray
-        Hot-branch flash temperature rise at the final linearisation speed [K].
-    """
-
-    tau: np.ndarray
-    slide: np.ndarray
-    friction: np.ndarray
-    speed: np.ndarray
-    cold: np.ndarray
-    dT_flash: np.ndarray
-
-
-@dataclass
-class StepCoefficients:
-    """Per-step constants of the implicit element step for one step size (module docstring).
-
-    Attributes
-    ----------
-    kd : ndarray
-        ``k dt + d`` [N s/m^3], shape ``(2, 1)`` or ``(2, n)``.
-    A : ndarray
-        ``m/dt + k dt + d`` [N s/m^3], same shape.
-    mdt : ndarray or float
-        ``m / dt`` [N s/m^3] (0 for a massless tip).
-    floor : ndarray
-        Lower limit ``-SLOPE_LIMIT min(A_x, A_y)`` of ``p dmu/dV`` [N s/m^3].
-    dt : float or ndarray
-        The step [s].
-    """
-
-    kd: np.ndarray
-    A: np.ndarray
-    mdt: np.ndarray | float
-    floor: np.ndarray
-    dt: float | np.ndarray
-
-    @classmethod
-    def build(cls, props: ElementProps, dt: float | np.ndarray) -> StepCoefficients:
-        """Coefficients for step ``dt`` [s] (scalar, or one per element)."""
-        kd = props.k * dt
-        kd += props.d
-        mdt = props.m / dt if props.m > 0.0 else 0.0
-        A = kd + mdt
-        A_min = A[0] if props.isotropic else np.minimum(A[0], A[1])
-        return cls(kd, A, mdt, -SLOPE_LIMIT * A_min, dt)
-
-
-def element_step(state: np.ndarray, pf: np.ndarray, Vb: np.ndarray, props: ElementProps,
-                 co: StepCoefficients, table: BranchTable, q: FrictionQuery, *,
-                 n_newton: int = 2, V0: np.ndarray | None = None) -> StepResult:
-    """Advance elements by one implicit step (module docstring), updating ``state`` in place.
+class RefTable:
+    """Friction table on (log10 v, T, log10 p), as the core holds it.
 
     Parameters
     ----------
-    state
-        Shape ``(5, n)``: rows ``u_x, u_y`` [m], ``w_x, w_y`` [m/s], ``s`` [m].
-    pf
-        Pressure times road-friction scale, ``mu_scale * p`` [Pa], shape ``(n,)``.
-    Vb
-        Belt slip velocity [m/s], shape ``(2, 1)`` or ``(2, n)``.
-    props
-        Element properties.
-    co
-        Step coefficients (:meth:`StepCoefficients.build`).
-    table
-        Friction branches (:class:`~tire_brush.friction.BranchTable`).
-    q
-        ``table.prepare(T0, p_rubber)``: the step's temperature and pressures on the rubber,
-        with the branches at v -> 0.
-    n_newton
-        Friction evaluations per step (>= 1): ``n_newton - 1`` Newton steps in ``ln |w|`` from
-        the predicted speed (the start speed if sliding, the hot-branch estimate if not), then
-        the implicit solve with the friction linearised at the last one.
-    V0
-        ``|w|`` at the start [m/s] if the caller has it.
-
-    Notes
-    -----
-    Eq. (28)'s cold weight is the mean of ``exp(-s/s0)`` over the step (module docstring) at
-    a predicted speed: the start speed for an element that was sliding, the hot-branch
-    estimate ``(|g| - mu_hot(0) p) / A`` for one that starts to slide (so that the
-    static/kinetic limit s0 -> 0 uses the kinetic value from its first sliding step).
-    """
-    u = state[0:2]
-    w = state[2:4]
-    s = state[4]
-    k, A, dt = props.k, co.A, co.dt
-    inv_s0 = table.inv_s0
-    g = k * u
-    np.subtract(co.kd * Vb, g, out=g)                 # g = (k dt + d) Vb - k u (+ m w / dt)
-    if props.m > 0.0:
-        g += co.mdt * w
-    G = np.hypot(g[0], g[1])
-    if V0 is None:
-        V0 = np.hypot(w[0], w[1])
-    mu0 = q.mu0
-    dmu0 = mu0[0] - mu0[1]
-    # stick test against eq. (28) at v -> 0 with the slip distance so far
-    E0 = np.exp(-s * inv_s0)
-    stick = G <= (mu0[1] + dmu0 * E0) * pf
-    if props.isotropic:
-        Ae = A[0] * np.ones_like(G) if A.shape[1] != G.size else A[0]
-    else:
-        g2 = g * g
-        Ae = A[1] + (A[0] - A[1]) * (g2[0] / np.maximum(g2[0] + g2[1], 1e-300))
-    V_hi = G / Ae                                     # the root lies below: mu >= 0
-    # cold weight averaged over the step at a predicted speed: with y = -Vp dt / s0,
-    # E = exp(-s/s0) (exp(y) - 1) / y (y floored at -1e-300: the limit y -> 0 gives exactly 1)
-    Vp = np.where(V0 > 0.0, V0, np.maximum(G - mu0[1] * pf, 0.0) / Ae)
-    y = Vp * dt * -inv_s0
-    np.minimum(y, -W_FLOOR, out=y)
-    E = np.expm1(y) / y * E0
-    # Newton steps in ln V on  Ae V + p mu(V) = |g|  from the predicted speed
-    V = np.maximum(np.minimum(Vp, V_hi), table.v_floor)
-    for _ in range(n_newton - 1):
-        br, dl = table.at(V, q, slope=True)
-        AV = Ae * V
-        f = br[1] + (br[0] - br[1]) * E
-        f *= pf
-        f += AV
-        f -= G
-        fp = (dl[1] + (dl[0] - dl[1]) * E) * pf
-        fp += AV
-        np.maximum(fp, 0.1 * AV, out=fp)             # falling branch: damped step
-        step = np.clip(f / fp, -10.0, 10.0)
-        V = np.maximum(np.minimum(V * np.exp(-step), V_hi), table.v_floor)
-    # implicit solve with mu linearised at V: mu(V') ~ (pa + pb V') / p
-    br, dl = table.at(V, q, slope=True)
-    pb = np.maximum((dl[1] + (dl[0] - dl[1]) * E) * (pf / V), co.floor)
-    pa = (br[1] + (br[0] - br[1]) * E) * pf - pb * V
-    B = A + pb
-    if props.isotropic:
-        V = (G - pa) / B[0]
-    else:
-        V = (G - pa) * (G * G) / np.maximum(g2[0] * B[0] + g2[1] * B[1], 1e-300)
-        np.maximum(V, 0.0, out=V)
-        # one Newton step on |(B V + p a)^-1 g| = 1 (exact for pure slip along an axis)
-        D = B * V + pa
-        np.maximum(D, 1e-9, out=D)
-        r = g2 / (D * D)
-        qq = r[0] + r[1]
-        dq = (r * B / D).sum(axis=0)
-        V = V - (qq - qq * np.sqrt(qq)) / np.maximum(dq, 1e-300)
-    np.maximum(V, 0.0, out=V)
-    slide = ~stick
-    V *= slide
-    D = B * V
-    D += pa
-    D += 1e-300
-    w_new = g * (V / D)
-    # state update: u+ = u + dt (w+ - Vb); s+ = s + |w+| dt
-    rel = w_new - Vb
-    u += dt * rel
-    w[...] = w_new
-    s += V * dt
-    np.minimum(s, S_MAX, out=s)
-    tau = k * u
-    tau += props.d * rel
-    return StepResult(tau, slide, pa + pb * V, V, E, br[2])
-
-
-def march_point(props: ElementProps, rows: list, mu0: list, p: list, pf: list, xi: list,
-                dts: tuple[float, float], Vb: tuple[float, float], v_axis: tuple,
-                inv_s0: float, n_newton: int) -> tuple[float, ...]:
-    """One element through the patch for a single operating point, in Python floats.
-
-    The same implicit step as :func:`element_step` (line for line, scalars instead of arrays):
-    for one point numpy's per-call overhead dominates, and this path is ~5x faster. Tests pin
-    the two to each other.
-
-    Parameters
-    ----------
-    props
-        Element properties.
-    rows
-        Per cell, the branches at the table's speed nodes at this cell's (T, p):
-        ``rows[j] = (mu_cold, mu_hot, dT_flash)`` lists of length ``nv + 1`` (last node
-        repeated).
-    mu0
-        Per cell ``(mu_cold, mu_hot)`` at v -> 0.
-    p, pf
-        Per cell gross pressure and ``mu_scale * p`` [Pa].
-    xi
-        Per cell position ``x / a``.
-    dts
-        First (half-cell) and regular step [s].
-    Vb
-        Slip velocity of the element bases [m/s].
-    v_axis
-        ``(log10 v_floor, 1/spacing in log10 v, n nodes - 1, list of 1/(ln 10 spacing))``:
-        the table's speed axis (uniform).
+    log10_v, T, log10_p
+        Strictly ascending axes (sequences of floats).
+    values
+        Node values ``values[iv][iT][ip] = (mu_cold, mu_hot, dT_flash)`` (nested sequences or
+        an array of shape ``(nv, nT, np, 3)``).
     inv_s0
         ``1/s0`` of eq. (28) [1/m].
-    n_newton
-        Friction evaluations per step.
+    """
+
+    def __init__(self, log10_v, T, log10_p, values, inv_s0: float) -> None:
+        self.ax = [list(map(float, a)) for a in (log10_v, T, log10_p)]
+        self.n = [len(a) for a in self.ax]
+        self.uni, self.lo, self.inv = [], [], []
+        for a in self.ax:
+            n = len(a)
+            d = (a[n - 1] - a[0]) / (n - 1)
+            self.uni.append(all(abs((a[i] - a[i - 1]) - d) <= 1e-9 * abs(d)
+                                for i in range(1, n)))
+            self.lo.append(a[0])
+            self.inv.append((n - 1) / (a[n - 1] - a[0]))
+        flat = [float(x) for row in _flatten(values) for x in row]
+        self.val = flat
+        nv = self.n[0]
+        self.vnode = [math.pow(10.0, x) for x in self.ax[0]]
+        self.ispan = [1.0 / (self.ax[0][j + 1] - self.ax[0][j]) if j < nv - 1 else 0.0
+                      for j in range(nv)]
+        self.inv_s0 = float(inv_s0)
+
+    def locate(self, k: int, x: float) -> tuple[int, float]:
+        """Cell index and fraction of ``x`` on axis ``k``, clamped."""
+        n = self.n[k]
+        a = self.ax[k]
+        if not x > a[0]:
+            return 0, 0.0
+        if not x < a[n - 1]:
+            return n - 2, 1.0
+        if self.uni[k]:
+            tt = (x - self.lo[k]) * self.inv[k]
+            j = int(tt)
+            if j > n - 2:
+                j = n - 2
+            return j, tt - j
+        lo, hi = 0, n - 1
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if a[mid] <= x:
+                lo = mid
+            else:
+                hi = mid
+        return lo, (x - a[lo]) / (a[lo + 1] - a[lo])
+
+    def prep(self, iT: int, fT: float, p_rubber: float) -> tuple:
+        """Offset and bilinear weights in (T, p) for pressure ``p_rubber`` [Pa]."""
+        lp = math.log10(p_rubber) if p_rubber > 0.0 else -math.inf
+        ip, fp = self.locate(2, lp)
+        return ((iT * self.n[2] + ip) * 3, (1.0 - fT) * (1.0 - fp), (1.0 - fT) * fp,
+                fT * (1.0 - fp), fT * fp)
+
+    def node(self, q: tuple, j: int) -> list[float]:
+        """``(mu_cold, mu_hot, dT_flash)`` at speed node ``j`` for a prepared query."""
+        b, w00, w01, w10, w11 = q
+        base = j * self.n[1] * self.n[2] * 3 + b
+        o2 = self.n[2] * 3
+        v = self.val
+        return [w00 * v[base + k] + w01 * v[base + 3 + k] + w10 * v[base + o2 + k]
+                + w11 * v[base + o2 + 3 + k] for k in range(3)]
+
+
+def _flatten(values):
+    """Rows of three values in (v, T, p) order."""
+    try:
+        import numpy as np
+        return np.asarray(values, dtype=float).reshape(-1, 3).tolist()
+    except ImportError:                           # pragma: no cover - numpy is a dependency
+        return [c for a in values for b in a for c in b]
+
+
+class _Stage:
+    """The friction root problem of one stage (module docstring)."""
+
+    __slots__ = ("Ax", "Ay", "E", "G", "Hs", "P", "Zs", "c0", "c1", "cell", "dT", "gx", "gy",
+                 "inv_s0", "iso", "ispan", "lvj", "pf", "q", "t")
+
+    def set_cell(self, j: int) -> None:
+        t = self.t
+        nv = t.n[0]
+        self.cell = j
+        if j < 0 or j >= nv - 1:
+            self.c0 = t.node(self.q, 0 if j < 0 else nv - 1)
+            self.c1 = [0.0, 0.0, 0.0]
+            self.lvj = 0.0
+            self.ispan = 0.0
+        else:
+            self.c0 = t.node(self.q, j)
+            n1 = t.node(self.q, j + 1)
+            self.c1 = [n1[k] - self.c0[k] for k in range(3)]
+            self.lvj = t.ax[0][j]
+            self.ispan = t.ispan[j]
+
+    def resid(self, V: float) -> tuple[float, float]:
+        """``(R, dR/dV)`` at speed ``V`` (module docstring); keeps the friction stress
+        ``P``, the cold weight ``E`` and the flash temperature ``dT`` of this evaluation."""
+        c0, c1 = self.c0, self.c1
+        if self.ispan > 0.0:
+            tt = (math.log10(V) - self.lvj) * self.ispan
+            dl = self.ispan / (V * LN10)
+            mc = c0[0] + c1[0] * tt
+            mh = c0[1] + c1[1] * tt
+            dT = c0[2] + c1[2] * tt
+            dmc = c1[0] * dl
+            dmh = c1[1] * dl
+        else:
+            mc, mh, dT, dmc, dmh = c0[0], c0[1], c0[2], 0.0, 0.0
+        E = math.exp(-(self.Zs + self.Hs * V) * self.inv_s0) if self.inv_s0 > 0.0 else 1.0
+        dm = mc - mh
+        P = self.pf * (mh + dm * E)
+        dP = self.pf * ((dmh + (dmc - dmh) * E) - dm * E * (self.Hs * self.inv_s0))
+        if self.iso:
+            R = (self.Ax * V + P) / self.G - 1.0
+            d = (self.Ax + dP) / self.G
+        else:
+            Dx = self.Ax * V + P
+            Dy = self.Ay * V + P
+            rx = self.gx / Dx
+            ry = self.gy / Dy
+            Q = rx * rx + ry * ry
+            sq = math.sqrt(Q)
+            R = 1.0 / sq - 1.0
+            d = (rx * rx * (self.Ax + dP) / Dx + ry * ry * (self.Ay + dP) / Dy) / (Q * sq)
+        self.P, self.E, self.dT = P, E, dT
+        return R, d
+
+    def solve_cell(self, lo: float, hi: float, x: float, r: float, d: float) -> float:
+        """Root in ``[lo, hi]`` (``R(lo) < 0 <= R(hi)``) by Newton's method from ``x``
+        (``R(x) = r``, ``R'(x) = d``) safeguarded by bisection; returns the last point
+        evaluated."""
+        for _ in range(200):
+            if r == 0.0:
+                return x
+            if r < 0.0:
+                lo = x
+            else:
+                hi = x
+            xn = x - r / d if d != 0.0 else math.nan
+            if not d > 0.0 or not (lo < xn < hi):
+                xn = 0.5 * (lo + hi)
+            if abs(xn - x) <= 1e-14 * xn or hi - lo <= 1e-15 * hi:
+                return x
+            x = xn
+            r, d = self.resid(x)
+        return x
+
+
+class Ctx:
+    """Constants of one outer step (``tf_ctx`` of the core)."""
+
+    __slots__ = ("Vbx", "Vby", "Vr", "dx", "dy", "fT", "iT", "inv_a2", "inv_void", "kx", "ky",
+                 "m", "mu_scale", "p_amp", "t", "tol_abs", "zx", "zy")
+
+    def __init__(self, p, t: RefTable, T: float, Fz: float, a: float, b: float,
+                 mu_scale: float, Vbx: float, Vby: float, Vr: float) -> None:
+        self.t = t
+        self.iT, self.fT = t.locate(1, T)
+        self.kx, self.ky, self.dx, self.dy, self.m = p.k_x, p.k_y, p.d_x, p.d_y, p.mass
+        self.Vbx, self.Vby, self.Vr = Vbx, Vby, Vr
+        self.inv_void = 1.0 / (1.0 - p.void_ratio)
+        self.mu_scale = mu_scale
+        self.p_amp = 0.75 * Fz / (a * b)
+        self.inv_a2 = 1.0 / (a * a)
+        self.tol_abs = p.tol * (0.5 * Fz / (a * b))
+        self.zx = math.sqrt(p.k_x * p.mass) + p.d_x
+        self.zy = math.sqrt(p.k_y * p.mass) + p.d_y
+
+    def pressure(self, x: float) -> float:
+        """Parabolic gross pressure [Pa] at position ``x`` [m]."""
+        w = 1.0 - x * x * self.inv_a2
+        return self.p_amp * w if w > 0.0 else 0.0
+
+
+def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: float,
+          Zs: float, V_start: float) -> tuple[float, ...]:
+    """One implicit stage ``Y = Z + Hs F(Y)`` at pressure ``p`` [Pa] (module docstring).
 
     Returns
     -------
     tuple
-        Sums over the cells: ``Fx, Fy`` (stress), ``sum xi tau_y``, number of sliding cells,
-        friction stress and pressure of sliding cells, largest flash temperature.
+        ``(u_x, u_y, w_x, w_y, s, V, P, E, dT_flash)``: the stage state, its slip speed, the
+        friction stress ``P = mu_scale p mu`` [Pa] (0 when sticking), the cold weight of
+        eq. (28) and the hot branch's flash temperature rise [K].
     """
-    (kx,), (ky,) = props.k.tolist()
-    (dx,), (dy,) = props.d.tolist()
-    m = props.m
-    iso = props.isotropic
-    lv0, inv_lv, n_max, inv_dlnv = v_axis
-    v_floor = 10.0 ** lv0
-    Vbx, Vby = Vb
-    exp, expm1, hypot, log10, sqrt = math.exp, math.expm1, math.hypot, math.log10, math.sqrt
-    coef = []
-    for h in dts:
-        kdx, kdy = kx * h + dx, ky * h + dy
-        mdt = m / h if m > 0.0 else 0.0
-        Ax, Ay = kdx + mdt, kdy + mdt
-        coef.append((h, kdx, kdy, mdt, Ax, Ay, -SLOPE_LIMIT * (Ax if iso else min(Ax, Ay))))
+    t = c.t
+    S = _Stage()
+    mdt = c.m / Hs
+    kdx = c.kx * Hs + c.dx
+    kdy = c.ky * Hs + c.dy
+    S.t = t
+    S.Ax = mdt + kdx
+    S.Ay = mdt + kdy
+    S.gx = mdt * Zwx - c.kx * Zux + kdx * c.Vbx
+    S.gy = mdt * Zwy - c.ky * Zuy + kdy * c.Vby
+    S.G = math.hypot(S.gx, S.gy)
+    S.pf = c.mu_scale * p
+    S.Zs = Zs
+    S.Hs = Hs
+    S.inv_s0 = t.inv_s0
+    S.iso = S.Ax == S.Ay
+    S.q = t.prep(c.iT, c.fT, p * c.inv_void)
+    S.set_cell(-1)
+    E0 = math.exp(-Zs * S.inv_s0) if S.inv_s0 > 0.0 else 1.0
+    mu0 = S.c0[1] + (S.c0[0] - S.c0[1]) * E0
+    if S.G <= mu0 * S.pf:                       # the tip sticks
+        return (Zux - Hs * c.Vbx, Zuy - Hs * c.Vby, 0.0, 0.0, Zs, 0.0, 0.0, E0, S.c0[2])
+    V_hi = S.G / (S.Ax if S.Ax < S.Ay else S.Ay)
+    Vs = V_start if V_start < V_hi else V_hi
+    nv = t.n[0]
+    if not Vs > t.vnode[0]:
+        if not Vs > 0.0:
+            Vs = 0.5 * t.vnode[0] if 0.5 * t.vnode[0] < V_hi else 0.5 * V_hi
+    elif Vs >= t.vnode[nv - 1]:
+        S.set_cell(nv - 1)
+    else:
+        j, _ = t.locate(0, math.log10(Vs))
+        if Vs < t.vnode[j]:                     # rounding of log10
+            j -= 1
+        elif Vs >= t.vnode[j + 1]:
+            j += 1
+        S.set_cell(j)
+    r, d = S.resid(Vs)
+    if r < 0.0:                                 # accelerating: the first root above
+        lo = Vs
+        while True:
+            last = False
+            ub = t.vnode[S.cell + 1] if S.cell < nv - 1 else V_hi
+            if ub >= V_hi:
+                ub, last = V_hi, True
+            V = None
+            for _ in range(50):                 # Newton from below
+                if not d > 0.0:
+                    break
+                x = lo - r / d
+                if not x < ub:
+                    break
+                rx, dx = S.resid(x)
+                if rx >= 0.0:
+                    V = S.solve_cell(lo, x, x, rx, dx)
+                    break
+                tiny = x - lo <= 1e-14 * x
+                lo, r, d = x, rx, dx
+                if tiny:
+                    V = x
+                    break
+            if V is not None:
+                break
+            if last:
+                r_ub, d_ub = S.resid(ub)
+                V = S.solve_cell(lo, ub, ub, r_ub, d_ub) if r_ub >= 0.0 else V_hi
+                break
+            # R is continuous across a node: read it there with the next cell's slope
+            S.set_cell(S.cell + 1)
+            r_ub, d_ub = S.resid(ub)
+            if r_ub >= 0.0:
+                V = S.solve_cell(lo, ub, ub, r_ub, d_ub)
+                break
+            lo, r, d = ub, r_ub, d_ub
+    elif r > 0.0:                               # decelerating: the first root below
+        hi = Vs
+        while True:
+            lb = 0.0 if S.cell < 0 else t.vnode[S.cell]
+            V = None
+            for _ in range(50):                 # Newton from above
+                if not d > 0.0:
+                    break
+                x = hi - r / d
+                if not x > lb:
+                    break
+                rx, dx = S.resid(x)
+                if rx < 0.0:
+                    V = S.solve_cell(x, hi, x, rx, dx)
+                    break
+                tiny = hi - x <= 1e-14 * hi
+                hi, r, d = x, rx, dx
+                if tiny:
+                    V = x
+                    break
+            if V is not None:
+                break
+            if S.cell < 0:                      # R(0) < 0: the stick test failed
+                V = S.solve_cell(0.0, hi, hi, r, d)
+                break
+            S.set_cell(S.cell - 1)
+            r_lb, d_lb = S.resid(lb)
+            if r_lb < 0.0:
+                V = S.solve_cell(lb, hi, lb, r_lb, d_lb)
+                break
+            hi, r, d = lb, r_lb, d_lb
+    else:
+        V = Vs
+    P = S.P
+    Dx = S.Ax * V + P
+    Dy = S.Ay * V + P
+    wx = S.gx * V / Dx
+    wy = S.gy * V / Dy
+    s = Zs + Hs * V
+    if s > S_MAX:
+        s = S_MAX
+    return (Zux + Hs * (wx - c.Vbx), Zuy + Hs * (wy - c.Vby), wx, wy, s, V, P, S.E, S.dT)
 
-    def look(row: tuple, V: float) -> tuple[float, ...]:
-        t = (log10(max(V, v_floor)) - lv0) * inv_lv
-        t = min(max(t, 0.0), n_max)
-        i = int(t)
-        f = t - i
-        c, hh, dT = row
-        dc, dh = c[i + 1] - c[i], hh[i + 1] - hh[i]
-        s_ = inv_dlnv[i] if V >= v_floor else 0.0
-        return c[i] + f * dc, hh[i] + f * dh, dT[i] + f * (dT[i + 1] - dT[i]), dc * s_, dh * s_
 
-    ux = uy = wx = wy = s = 0.0
-    Fx = Fy = Mz = n_slide = f_slide = p_slide = dT_max = 0.0
-    for j in range(len(p)):
-        h, kdx, kdy, mdt, Ax, Ay, floor = coef[0] if j == 0 else coef[1]
-        pj, pfj = p[j], pf[j]
-        gx = kdx * Vbx - kx * ux + mdt * wx
-        gy = kdy * Vby - ky * uy + mdt * wy
-        G = hypot(gx, gy)
-        V0 = hypot(wx, wy)
-        m0c, m0h = mu0[j]
-        E0 = exp(-s * inv_s0)
-        stick = G <= (m0h + (m0c - m0h) * E0) * pfj
-        if iso:
-            Ae = Ax
+def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, ...]:
+    """Integrate element ``e`` (list of :data:`N_ELEM` floats, updated in place) over its
+    contact time ``h_e`` [s] ending at position ``x_end`` [m] (module docstring).
+
+    Returns
+    -------
+    tuple
+        ``(energy, V, P, E, dT_flash, p, steps)``: friction work per unit area over the step
+        [J/m^2], the end-of-step slip speed, friction stress, cold weight, flash temperature
+        rise, pressure, and the sub-steps taken.
+    """
+    ux, uy, wx, wy, s = e[0], e[1], e[2], e[3], e[4]
+    Hn = e[5]
+    if not Hn > 0.0 or Hn > h_e:
+        Hn = h_e
+    t = 0.0
+    energy = steps = 0.0
+    g1 = (1.0 - GAMMA) / GAMMA
+    ig = 1.0 / GAMMA
+    o2 = (0.0, 0.0, 0.0, 0.0, 0.0, math.hypot(wx, wy), 0.0,
+          math.exp(-s * c.t.inv_s0) if c.t.inv_s0 > 0.0 else 1.0, 0.0)
+    p2 = c.pressure(x_end)
+    while h_e - t > 1e-12 * h_e:
+        rest = h_e - t
+        cut = Hn >= rest
+        H = rest if cut else Hn
+        Hs = GAMMA * H
+        p1 = c.pressure(x_end + c.Vr * (rest - Hs))
+        o1 = stage(c, Hs, p1, ux, uy, wx, wy, s, math.hypot(wx, wy))
+        Zux = ux + g1 * (o1[0] - ux)
+        Zuy = uy + g1 * (o1[1] - uy)
+        Zwx = wx + g1 * (o1[2] - wx)
+        Zwy = wy + g1 * (o1[3] - wy)
+        Zs = s + g1 * (o1[4] - s)
+        pe = c.pressure(x_end + c.Vr * (rest - H))
+        o2 = stage(c, Hs, pe, Zux, Zuy, Zwx, Zwy, Zs, o1[5])
+        err = abs(o2[0] - (ux + (o1[0] - ux) * ig)) * c.kx
+        ey = abs(o2[1] - (uy + (o1[1] - uy) * ig)) * c.ky
+        evx = abs(o2[2] - (wx + (o1[2] - wx) * ig)) * c.zx
+        evy = abs(o2[3] - (wy + (o1[3] - wy) * ig)) * c.zy
+        if ey > err:
+            err = ey
+        if evx > err:
+            err = evx
+        if evy > err:
+            err = evy
+        err /= c.tol_abs
+        fac = 0.9 / math.sqrt(err) if err > 0.0 else 4.0
+        if fac > 4.0:
+            fac = 4.0
+        if fac < 0.2:
+            fac = 0.2
+        if err <= 1.0 or H <= H_MIN:
+            ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
+            energy += H * ((1.0 - GAMMA) * o1[6] * o1[5] + GAMMA * o2[6] * o2[5])
+            steps += 1.0
+            p2 = pe
+            t += H
+            Hf = H * fac
+            Hn = (Hf if Hf > Hn else Hn) if cut else Hf
         else:
-            g2x, g2y = gx * gx, gy * gy
-            Ae = Ay + (Ax - Ay) * (g2x / max(g2x + g2y, 1e-300))
-        V_hi = G / Ae
-        Vp = V0 if V0 > 0.0 else max(G - m0h * pfj, 0.0) / Ae
-        y = min(Vp * h * -inv_s0, -W_FLOOR)
-        E = expm1(y) / y * E0
-        V = max(min(Vp, V_hi), v_floor)
-        row = rows[j]
-        for _ in range(n_newton - 1):
-            mc, mh, _dT, dc, dh = look(row, V)
-            AV = Ae * V
-            f = (mh + (mc - mh) * E) * pfj + AV - G
-            fp = max((dh + (dc - dh) * E) * pfj + AV, 0.1 * AV)
-            step = min(max(f / fp, -10.0), 10.0)
-            V = max(min(V * exp(-step), V_hi), v_floor)
-        mc, mh, dT, dc, dh = look(row, V)
-        pb = max((dh + (dc - dh) * E) * (pfj / V), floor)
-        pa = (mh + (mc - mh) * E) * pfj - pb * V
-        Bx, By = Ax + pb, Ay + pb
-        if iso:
-            V = (G - pa) / Bx
-        else:
-            V = max((G - pa) * (G * G) / max(g2x * Bx + g2y * By, 1e-300), 0.0)
-            Dx, Dy = max(Bx * V + pa, 1e-9), max(By * V + pa, 1e-9)
-            rx, ry = g2x / (Dx * Dx), g2y / (Dy * Dy)
-            qq = rx + ry
-            V = V - (qq - qq * sqrt(qq)) / max(rx * Bx / Dx + ry * By / Dy, 1e-300)
-        V = 0.0 if stick else max(V, 0.0)
-        wx = gx * (V / (Bx * V + pa + 1e-300))
-        wy = gy * (V / (By * V + pa + 1e-300))
-        relx, rely = wx - Vbx, wy - Vby
-        ux += h * relx
-        uy += h * rely
-        s = min(s + V * h, S_MAX)
-        tauy = ky * uy + dy * rely
-        Fx += kx * ux + dx * relx
-        Fy += tauy
-        Mz += xi[j] * tauy
+            Hn = H * fac
+            if Hn < H_MIN:
+                Hn = H_MIN
+    e[0], e[1], e[2], e[3], e[4], e[5] = ux, uy, wx, wy, s, Hn
+    return energy, o2[5], o2[6], o2[7], o2[8], p2, steps
+
+
+def patch_size(p, Fz: float) -> tuple[float, float]:
+    """Half-length ``a`` and width ``b`` [m] (Pacejka 2012, eqs. (A3.7)-(A3.8))."""
+    if not Fz > 0.0:
+        return 0.0, 0.0
+    r = (Fz if Fz < p.Fz_max else p.Fz_max) / (p.C_z * p.R0)
+    return (p.R0 * (p.q_ra2 * r + p.q_ra1 * math.sqrt(r)),
+            2.0 * p.width * (p.q_rb2 * r + p.q_rb1 * _cbrt(r)))
+
+
+def _cbrt(x: float) -> float:
+    """Cube root as C's ``cbrt`` (correctly rounded where ``x ** (1/3)`` is not)."""
+    try:
+        return math.cbrt(x)                       # Python >= 3.11
+    except AttributeError:                        # pragma: no cover
+        return x ** (1.0 / 3.0)
+
+
+def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float, Fz: float,
+                 T: float, mu_scale: float) -> list[float]:
+    """Steady state of one operating point: one element marched through the patch, the
+    stress sampled at ``n_cells`` cell midpoints (``tf_steady`` of the core).
+
+    Returns
+    -------
+    list
+        ``[Fx, Fy, Mz, mu_eff, mu_slide, sliding_fraction, dT_flash_max, sub-steps]``.
+    """
+    out = [0.0] * 8
+    a, b = patch_size(p, Fz)
+    if not (a > 0.0 and b > 0.0):
+        return out
+    sgn = -1.0 if Vr < 0.0 else 1.0
+    vr = abs(Vr) if abs(Vr) > V_ROLL_MIN else V_ROLL_MIN
+    dx = 2.0 * a / n_cells
+    area = b * dx
+    c = Ctx(p, t, T, Fz, a, b, mu_scale, Vsx, Vsy, vr)
+    e = [0.0, 0.0, Vsx, Vsy, 0.0, 0.0, 1.0]
+    Fx = Fy = Mz = nsl = fsl = psl = dTm = steps = 0.0
+    x_prev = a
+    for j in range(n_cells):
+        x = a * (1.0 - (2.0 * j + 1.0) / n_cells)
+        _, V, P, E, dT, pj, st = integrate(c, e, x, (x_prev - x) / vr)
+        x_prev = x
+        steps += st
+        tx = c.kx * e[0] + c.dx * (e[2] - Vsx)
+        ty = c.ky * e[1] + c.dy * (e[3] - Vsy)
+        Fx += tx
+        Fy += ty
+        Mz += x * ty
         if V > CREEP_SPEED:
-            n_slide += 1.0
-            f_slide += pa + pb * V
-            p_slide += pj
-            dT_max = max(dT_max, dT * (1.0 - E))
-    return Fx, Fy, Mz, n_slide, f_slide, p_slide, dT_max
+            nsl += 1.0
+            fsl += P
+            psl += pj
+            d = dT * (1.0 - E)
+            if d > dTm:
+                dTm = d
+    Fx *= area
+    Fy *= area
+    out[0], out[1], out[2] = Fx, Fy, Mz * area * sgn
+    out[3] = math.hypot(Fx, Fy) / Fz if Fz > 0.0 else 0.0
+    out[4] = fsl / psl if psl > 0.0 else 0.0
+    out[5] = nsl / n_cells
+    out[6] = dTm
+    out[7] = steps
+    return out
 
 
-class _Workspace:
-    """Preallocated arrays (and their row views) of :class:`LatticeStepper` for ``n``
-    elements: the step writes every intermediate into them."""
-
-    __slots__ = ("A", "A0", "A1", "Ae", "B", "B0", "B1", "D", "D0", "D1", "E", "E0", "G", "V",
-                 "V_hi", "Vn", "Vp", "d", "den", "dq", "floor", "g", "g0", "g1", "g2", "g2_0",
-                 "g2_1", "k", "kd", "mdt", "pa", "pb", "pos", "qq", "r", "r0", "r1", "rel",
-                 "slide", "t1", "t2", "t2_0", "t2_1", "tau", "thr")
-
-    def __init__(self, props: ElementProps, n: int) -> None:
-        self.k = np.repeat(props.k, n, axis=1)        # (2, n) rows of k and d
-        self.d = np.repeat(props.d, n, axis=1)
-        self.kd, self.mdt, self.rel, self.tau = (np.empty((2, n)) for _ in range(4))
-        self.A, self.g, self.g2, self.B, self.D, self.r, self.t2 = (
-            np.empty((2, n)) for _ in range(7))
-        self.A0, self.A1 = self.A
-        self.g0, self.g1 = self.g
-        self.g2_0, self.g2_1 = self.g2
-        self.B0, self.B1 = self.B
-        self.D0, self.D1 = self.D
-        self.r0, self.r1 = self.r
-        self.t2_0, self.t2_1 = self.t2
-        (self.floor, self.G, self.thr, self.Ae, self.V_hi, self.Vp, self.E, self.E0, self.V,
-         self.Vn, self.pb, self.pa, self.den, self.qq, self.dq, self.t1) = np.empty((16, n))
-        self.slide = np.empty(n, dtype=bool)
-        self.pos = np.empty(n, dtype=bool)
-
-
-class LatticeStepper:
-    """:func:`element_step` fused for the transient model's lattice (one call per sub-step).
-
-    The same implicit step, operation for operation, so the results are identical to the
-    bit (pinned by the tests against :func:`element_step` through the transient model). At
-    ~100 elements numpy's per-call overhead, not arithmetic, sets the cost, so the step
-    removes calls and their overhead: constants are bound once (0-d arrays, cheaper ufunc
-    operands than Python floats), x and y run as ``(2, n)`` rows with same-shape operands
-    (numpy's broadcasting machinery costs more than a second call at this size),
-    intermediates are written into preallocated arrays (:class:`_Workspace`, one per
-    element count), and the table is read through
-    :meth:`~tire_brush.friction.BranchTable.at_sliding` (the linearisation speed never drops
-    below the table's ``v_floor``).
+class RefTire:
+    """The transient tire of the core (``tf_tire``) in Python floats.
 
     Parameters
     ----------
-    props
-        Element properties.
-    table
-        Friction branches.
-    n_newton
-        Friction evaluations per step (as :func:`element_step`).
+    p
+        Core parameters (:class:`tire_brush.ccore.Params` or any object with its fields).
+    t
+        Friction table.
     """
 
-    def __init__(self, props: ElementProps, table: BranchTable, n_newton: int) -> None:
-        self.props = props
-        self.table = table
-        self.n_newton = n_newton
-        (kx,), (ky,) = props.k.tolist()
-        (dx,), (dy,) = props.d.tolist()
-        # row of A that is the smaller one for every step size (A_x - A_y keeps the sign of
-        # k_x - k_y and d_x - d_y when those agree); None: take the element-wise minimum
-        if props.isotropic or (kx <= ky and dx <= dy):
-            self._a_min_row: int | None = 0
-        elif kx >= ky and dx >= dy:
-            self._a_min_row = 1
-        else:
-            self._a_min_row = None
-        self._c = tuple(np.array(x) for x in (-table.inv_s0, table.v_floor, 0.0, 1e-300,
-                                              1e-9, S_MAX, -SLOPE_LIMIT, props.m, -W_FLOOR))
-        self._work: dict[int, _Workspace] = {}
+    def __init__(self, p, t: RefTable) -> None:
+        self.p = p
+        self.t = t
+        a_nom, _ = patch_size(p, p.Fz_nom)
+        self.a_max, _ = patch_size(p, p.Fz_max)
+        self.dx = 2.0 * a_nom / p.n_elements
+        self.L = math.ceil(2.0 * self.a_max / self.dx) + 2
+        self.work = 0.0
+        self.reset(math.nan)
 
-    def step(self, state: np.ndarray, pf: np.ndarray, Vb: np.ndarray, dt: float | np.ndarray,
-             dt1: float | np.ndarray, q: FrictionQuery, V0: np.ndarray) -> tuple:
-        """Advance elements by one implicit step of :func:`element_step`, updating ``state``
-        in place.
+    def reset(self, T_tread: float) -> None:
+        """Undeflected tire at rest."""
+        self.el = [[0.0] * N_ELEM for _ in range(self.L)]
+        self.x_top = self.a_max
+        self.delta = [0.0, 0.0]
+        self.Vb = [0.0, 0.0]
+        self.F = [0.0, 0.0]
+        self.T_tread = T_tread
+        self.time = 0.0
+        self.out = [0.0] * 10
 
-        Parameters
-        ----------
-        state
-            Shape ``(5, n)``, C-contiguous: rows ``u_x, u_y`` [m], ``w_x, w_y`` [m/s],
-            ``s`` [m].
-        pf
-            ``mu_scale * p`` [Pa], shape ``(n,)``.
-        Vb
-            Belt slip velocity [m/s], shape ``(2, n)`` (equal columns).
-        dt
-            The step [s]: a float, or shape ``(2, n)`` with two equal rows (one step per
-            element, :meth:`StepCoefficients.build`).
-        dt1
-            ``dt`` as a float or one row, shape ``(n,)``.
-        q
-            ``table.prepare(T0, p_rubber)``.
-        V0
-            ``|w|`` at the start [m/s].
+    def get_state(self) -> list[float]:
+        """State vector in the core's layout."""
+        return ([float(STATE_VERSION), float(self.L), self.x_top, *self.delta, *self.Vb,
+                 *self.F, self.T_tread, self.time, *self.out]
+                + [x for e in self.el for x in e])
 
-        Returns
-        -------
-        tuple
-            ``(tau, friction, speed, cold, dT_flash)`` as the fields of :class:`StepResult`.
-            The arrays belong to the stepper and are overwritten by its next step.
-        """
-        mul, add, sub, div = np.multiply, np.add, np.subtract, np.divide
-        maximum, minimum = np.maximum, np.minimum
-        neg_inv_s0, v_floor, zero, tiny, d_floor, s_max, neg_slope, m0, neg_w_floor = self._c
-        props = self.props
-        n = state.shape[1]
-        W = self._work.get(n)
-        if W is None:
-            W = self._work[n] = _Workspace(props, n)
-        # step coefficients (StepCoefficients.build)
-        kd, A = W.kd, W.A
-        mul(W.k, dt, kd)
-        add(kd, W.d, kd)
-        massive = props.m > 0.0
-        if not massive:
-            mdt = zero
-        elif isinstance(dt, np.ndarray):
-            mdt = div(m0, dt, W.mdt)
-        else:
-            mdt = props.m / dt                        # a scalar step keeps its own type
-        add(kd, mdt, A)
-        row = self._a_min_row
-        floor = mul(W.A1 if row == 1 else W.A0 if row == 0 else minimum(W.A0, W.A1),
-                    neg_slope, W.floor)
-        u = state[0:2]
-        w = state[2:4]
-        s = state[4]
-        # g = (k dt + d) Vb - k u (+ m w / dt)
-        g, t2, t1 = W.g, W.t2, W.t1
-        mul(kd, Vb, g)
-        sub(g, mul(W.k, u, t2), g)
-        if massive:
-            add(g, mul(mdt, w, t2), g)
-        G = np.hypot(W.g0, W.g1, W.G)
-        mu0 = q.mu0
-        mu0h = mu0[1]
-        # stick test against eq. (28) at v -> 0 with the slip distance so far
-        E0 = np.exp(mul(s, neg_inv_s0, W.E0), W.E0)
-        thr = mul(E0, sub(mu0[0], mu0h, t1), W.thr)
-        add(thr, mu0h, thr)
-        mul(thr, pf, thr)
-        slide = np.logical_not(np.less_equal(G, thr, W.slide), W.slide)   # as ~(G <= thr)
-        iso = props.isotropic
-        if iso:
-            Ae = W.A0
-        else:
-            g2 = mul(g, g, W.g2)
-            Ae = add(W.g2_0, W.g2_1, W.Ae)
-            maximum(Ae, tiny, out=Ae)
-            div(W.g2_0, Ae, Ae)
-            mul(Ae, sub(W.A0, W.A1, t1), Ae)
-            add(Ae, W.A1, Ae)
-        V_hi = div(G, Ae, W.V_hi)                     # the root lies below: mu >= 0
-        # cold weight averaged over the step at a predicted speed (element_step)
-        Vp = mul(mu0h, pf, W.Vp)
-        sub(G, Vp, Vp)
-        maximum(Vp, zero, out=Vp)
-        div(Vp, Ae, Vp)
-        np.copyto(Vp, V0, where=np.greater(V0, zero, W.pos))   # V0 where V0 > 0
-        E = mul(Vp, dt1, W.E)                         # y = -Vp dt / s0, floored at -W_FLOOR
-        mul(E, neg_inv_s0, E)
-        minimum(E, neg_w_floor, out=E)
-        div(np.expm1(E, t1), E, E)
-        mul(E, E0, E)
-        V = minimum(Vp, V_hi, out=W.V)
-        maximum(V, v_floor, out=V)
-        table = self.table
-        for _ in range(self.n_newton - 1):
-            mu_c, mu_h, _, dmu_c, dmu_h = table.at_sliding(V, q)
-            AV = Ae * V
-            f = mu_c - mu_h
-            f *= E
-            f += mu_h
-            f *= pf
-            f += AV
-            f -= G
-            fp = dmu_c - dmu_h
-            fp *= E
-            fp += dmu_h
-            fp *= pf
-            fp += AV
-            maximum(fp, 0.1 * AV, out=fp)            # falling branch: damped step
-            step = np.clip(f / fp, -10.0, 10.0)
-            np.negative(step, out=step)
-            np.exp(step, out=step)
-            V *= step
-            minimum(V, V_hi, out=V)
-            maximum(V, v_floor, out=V)
-        # implicit solve with mu linearised at V: mu(V') ~ (pa + pb V') / p, eq. (28) blends
-        # of the table's slope (pb) and value (pa)
-        mu_c, mu_h, dT, dmu_c, dmu_h = table.at_sliding(V, q)
-        pb = sub(dmu_c, dmu_h, W.pb)
-        mul(pb, E, pb)
-        add(pb, dmu_h, pb)
-        mul(pb, div(pf, V, t1), pb)
-        maximum(pb, floor, out=pb)
-        pa = sub(mu_c, mu_h, W.pa)
-        mul(pa, E, pa)
-        add(pa, mu_h, pa)
-        mul(pa, pf, pa)
-        sub(pa, mul(pb, V, t1), pa)
-        B, B0, B1, D, D0, D1 = W.B, W.B0, W.B1, W.D, W.D0, W.D1
-        add(W.A0, pb, B0)
-        add(W.A1, pb, B1)
-        V = sub(G, pa, W.Vn)
-        if iso:
-            div(V, B0, V)
-        else:
-            mul(V, mul(G, G, t1), V)
-            mul(g2, B, t2)
-            den = add(W.t2_0, W.t2_1, W.den)
-            maximum(den, tiny, out=den)
-            div(V, den, V)
-            maximum(V, zero, out=V)
-            # one Newton step on |(B V + p a)^-1 g| = 1 (exact for pure slip along an axis)
-            add(mul(B0, V, D0), pa, D0)
-            add(mul(B1, V, D1), pa, D1)
-            maximum(D, d_floor, out=D)
-            r = mul(D, D, W.r)
-            div(g2, r, r)
-            qq = add(W.r0, W.r1, W.qq)
-            mul(r, B, r)
-            div(r, D, r)
-            dq = add(W.r0, W.r1, W.dq)
-            maximum(dq, tiny, out=dq)
-            corr = np.sqrt(qq, t1)
-            mul(corr, qq, corr)
-            sub(qq, corr, corr)
-            div(corr, dq, corr)
-            sub(V, corr, V)
-        maximum(V, zero, out=V)
-        mul(V, slide, V)
-        add(mul(B0, V, D0), pa, D0)
-        add(mul(B1, V, D1), pa, D1)
-        add(D, tiny, D)
-        div(V, D0, D0)
-        div(V, D1, D1)
-        mul(g, D, w)
-        # state update: u+ = u + dt (w+ - Vb); s+ = s + |w+| dt
-        rel = sub(w, Vb, W.rel)
-        add(u, mul(rel, dt, t2), u)
-        add(s, mul(V, dt1, t1), s)
-        minimum(s, s_max, out=s)
-        tau = mul(W.k, u, W.tau)
-        add(tau, mul(W.d, rel, t2), tau)
-        mul(pb, V, pb)
-        add(pb, pa, pb)
-        return tau, pb, V, E, dT
+    def set_state(self, buf) -> None:
+        """Restore :meth:`get_state`."""
+        buf = [float(x) for x in buf]
+        self.x_top = buf[2]
+        self.delta = buf[3:5]
+        self.Vb = buf[5:7]
+        self.F = buf[7:9]
+        self.T_tread, self.time = buf[9], buf[10]
+        self.out = buf[11:21]
+        self.el = [buf[STATE_HEAD + i * N_ELEM:STATE_HEAD + (i + 1) * N_ELEM]
+                   for i in range(self.L)]
+
+    def _tread_stiffness(self, c: Ctx, h: float) -> tuple[float, float]:
+        p = self.p
+        jx = jy = 0.0
+        kdx = p.k_x * h + p.d_x
+        kdy = p.k_y * h + p.d_y
+        mdt = p.mass / h
+        t = c.t
+        for i, e in enumerate(self.el):
+            if e[6] == 0.0:
+                continue
+            V = math.hypot(e[2], e[3])
+            if V == 0.0:
+                jx += kdx
+                jy += kdy
+                continue
+            x = self.x_top - i * self.dx
+            pr = c.pressure(x)
+            S = _Stage()
+            S.t = t
+            S.q = t.prep(c.iT, c.fT, pr * c.inv_void)
+            j = -1
+            if V > t.vnode[0]:
+                if V >= t.vnode[t.n[0] - 1]:
+                    j = t.n[0] - 1
+                else:
+                    j, _ = t.locate(0, math.log10(V))
+            S.set_cell(j)
+            S.Ax = S.Ay = 1.0
+            S.gx = S.gy = 0.0
+            S.G = 1.0
+            S.pf = c.mu_scale * pr
+            S.Zs = e[4]
+            S.Hs = 0.0
+            S.inv_s0 = t.inv_s0
+            S.iso = True
+            S.resid(V)
+            cs = S.P / V
+            jx += kdx * ((mdt + cs) / (mdt + kdx + cs))
+            jy += kdy * ((mdt + cs) / (mdt + kdy + cs))
+        return jx, jy
+
+    def _advance(self, h, Vsx, Vsy, V_r, Fz, a, b, Ts, mus) -> list[float]:
+        p = self.p
+        dx, L = self.dx, self.L
+        x_top = self.x_top - V_r * h
+        shift = math.floor((x_top - self.a_max) / dx)
+        x_top -= shift * dx
+        self.x_top = x_top
+        sh = int(shift)
+        if sh != 0:
+            zero = [[0.0] * N_ELEM for _ in range(min(abs(sh), L))]
+            if abs(sh) >= L:
+                self.el = [[0.0] * N_ELEM for _ in range(L)]
+            elif sh > 0:
+                self.el = self.el[sh:] + zero
+            else:
+                self.el = zero + self.el[:L + sh]
+        T0 = self.T_tread if p.thermal else Ts
+        area = b * dx
+        any_in = False
+        for i in range(L):
+            x = x_top - i * dx
+            if not (a > 0.0 and area > 0.0 and -a < x < a):
+                self.el[i] = [0.0] * N_ELEM
+            else:
+                any_in = True
+        if not any_in:
+            if not p.rigid:
+                self.delta = [self.delta[0] * (p.dc_x / (p.kc_x * h + p.dc_x)),
+                              self.delta[1] * (p.dc_y / (p.kc_y * h + p.dc_y))]
+            self.Vb = [Vsx, Vsy]
+            self.F = [0.0, 0.0]
+            if p.thermal:
+                self.T_tread = (self.T_tread + h / p.heat_capacity * (p.conductance * Ts)) / (
+                    1.0 + h * p.conductance / p.heat_capacity)
+            return [0.0]
+        c = Ctx(p, self.t, T0, Fz, a, b, mus, Vsx, Vsy, V_r)
+        Vbx, Vby = Vsx, Vsy
+        if not p.rigid:
+            Jx, Jy = self._tread_stiffness(c, h)
+            Jx *= area
+            Jy *= area
+            ux = (self.F[0] - Jx * (Vsx - self.Vb[0]) - p.kc_x * self.delta[0]) / (
+                p.kc_x * h + p.dc_x + Jx)
+            uy = (self.F[1] - Jy * (Vsy - self.Vb[1]) - p.kc_y * self.delta[1]) / (
+                p.kc_y * h + p.dc_y + Jy)
+            self.delta = [self.delta[0] + h * ux, self.delta[1] + h * uy]
+            Vbx, Vby = Vsx + ux, Vsy + uy
+        c.Vbx, c.Vby = Vbx, Vby
+        Fx = Fy = Mz = heat = nsl = fsl = psl = dTm = n_in = 0.0
+        for i in range(L):
+            x = x_top - i * dx
+            e = self.el[i]
+            if not (-a < x < a):
+                continue
+            h_e = h
+            if e[6] == 0.0:                       # enters: tip moving with the belt
+                if V_r > 0.0:
+                    h_e = (a - x) / V_r
+                elif V_r < 0.0:
+                    h_e = (a + x) / -V_r
+                if h_e > h:
+                    h_e = h
+                e[:] = [0.0, 0.0, Vbx, Vby, 0.0, h_e, 1.0]
+            energy, V, P, E, dT, pe, st = integrate(c, e, x, h_e)
+            self.work += st
+            tx = c.kx * e[0] + c.dx * (e[2] - Vbx)
+            ty = c.ky * e[1] + c.dy * (e[3] - Vby)
+            Fx += tx
+            Fy += ty
+            Mz += x * ty
+            heat += energy
+            n_in += 1.0
+            if V > CREEP_SPEED:
+                nsl += 1.0
+                fsl += P
+                psl += pe
+                d = dT * (1.0 - E)
+                if d > dTm:
+                    dTm = d
+        self.Vb = [Vbx, Vby]
+        self.F = [Fx * area, Fy * area]
+        if p.thermal:
+            Q = heat * area
+            self.T_tread = (self.T_tread + (p.heat_fraction * Q + h * p.conductance * Ts)
+                            / p.heat_capacity) / (1.0 + h * p.conductance / p.heat_capacity)
+        return [1.0, Mz * area, nsl / n_in, fsl / psl if psl > 0.0 else 0.0, dTm]
+
+    def step(self, dt: float, vx: float, vy: float, omega: float, Fz: float, Ts: float,
+             mus: float) -> list[float]:
+        """Advance by ``dt`` [s] (``tf_tire_step``); inputs must be valid."""
+        p = self.p
+        if math.isnan(self.T_tread):
+            self.T_tread = Ts
+        if dt > 0.0:
+            ns = math.ceil(dt / p.dt_internal - 1e-9)
+            n_sub = int(ns) if ns > 1.0 else 1
+            h = dt / n_sub
+            if Fz < 0.0:
+                Fz = 0.0
+            V_r = omega * p.R_e
+            a, b = patch_size(p, Fz)
+            fin = [0.0]
+            for _ in range(n_sub):
+                fin = self._advance(h, vx - V_r, vy, V_r, Fz, a, b, Ts, mus)
+            self.time += dt
+            ref = abs(vx) if abs(vx) > p.v_floor else p.v_floor
+            kappa = (omega * p.R_e - vx) / ref
+            if vx < 0.0:
+                kappa = -kappa
+            alpha = math.atan2(-vy, ref)
+            T0 = self.T_tread if p.thermal else Ts
+            o = self.out
+            if fin[0] == 0.0:
+                o[0] = o[1] = o[2] = o[5] = o[6] = o[7] = o[8] = 0.0
+            else:
+                o[0], o[1], o[2] = self.F[0], self.F[1], fin[1]
+                o[5] = math.hypot(self.F[0], self.F[1]) / Fz if Fz > 0.0 else 0.0
+                o[6], o[7], o[8] = fin[3], fin[2], fin[4]
+            o[3], o[4], o[9] = kappa, alpha, T0
+        return list(self.out)

@@ -1,0 +1,871 @@
+/*
+ * tirecore.c: the transient and steady brush tire (tirecore.h; method in docs/tire-core.md).
+ *
+ * Every floating-point operation here is mirrored, in the same order, by the Python
+ * reference tire_brush/element.py; the tests pin the two to each other. Build without
+ * contraction of multiply-adds (-ffp-contract=off) and without fast-math so that both give
+ * the same IEEE results.
+ */
+#include "tirecore.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* SDIRK2 diagonal coefficient gamma = 1 - 1/sqrt(2) (Alexander 1977, L-stable, order 2). */
+#define GAMMA 0.2928932188134524
+/* Elements slipping slower than this [m/s] count as adhering in the sliding fraction. */
+#define CREEP_SPEED 1e-3
+/* Smallest element sub-step [s]: a step this short is accepted whatever its error. */
+#define H_MIN 1e-8
+/* Largest slipped distance carried [m]. */
+#define S_MAX 1e6
+/* Smallest rolling speed of the steady march [m/s] (a locked wheel). */
+#define V_ROLL_MIN 1e-6
+#define LN10 2.302585092994046
+
+struct tf_table {
+    int n[3];
+    double *ax[3];
+    int uni[3];
+    double lo[3], inv[3];
+    double *val;      /* node values, (nv, nT, np, 3) */
+    double *vnode;    /* 10^log10_v */
+    double *ispan;    /* 1 / (log10 v_{j+1} - log10 v_j) */
+    double inv_s0;
+};
+
+struct tf_tire {
+    tf_params p;
+    const tf_table *t;
+    double a_max, dx;
+    int L;
+    double *el;
+    double x_top, delta[2], Vb[2], F[2], T_tread, time;
+    double out[TF_NOUT];
+    double work;
+};
+
+/* ---------------------------------------------------------------- table ---------------- */
+
+static int axis_ok(int n, const double *a) {
+    if (n < 2) return 0;
+    for (int i = 0; i < n; i++) {
+        if (!isfinite(a[i])) return 0;
+        if (i > 0 && !(a[i] > a[i - 1])) return 0;
+    }
+    return 1;
+}
+
+tf_table *tf_table_new(int nv, int nT, int np, const double *log10_v, const double *T,
+                       const double *log10_p, const double *values, double inv_s0) {
+    const double *axes[3] = {log10_v, T, log10_p};
+    int n[3] = {nv, nT, np};
+    if (!(inv_s0 >= 0.0) || !isfinite(inv_s0)) return NULL;
+    for (int k = 0; k < 3; k++)
+        if (!axis_ok(n[k], axes[k])) return NULL;
+    size_t nval = (size_t)nv * nT * np * 3;
+    for (size_t i = 0; i < nval; i++)
+        if (!isfinite(values[i])) return NULL;
+    tf_table *t = calloc(1, sizeof *t);
+    if (!t) return NULL;
+    t->inv_s0 = inv_s0;
+    for (int k = 0; k < 3; k++) {
+        t->n[k] = n[k];
+        t->ax[k] = malloc(sizeof(double) * n[k]);
+        if (!t->ax[k]) { tf_table_free(t); return NULL; }
+        memcpy(t->ax[k], axes[k], sizeof(double) * n[k]);
+        double d = (axes[k][n[k] - 1] - axes[k][0]) / (n[k] - 1);
+        int uni = 1;
+        for (int i = 1; i < n[k]; i++)
+            if (fabs((axes[k][i] - axes[k][i - 1]) - d) > 1e-9 * fabs(d)) uni = 0;
+        t->uni[k] = uni;
+        t->lo[k] = axes[k][0];
+        t->inv[k] = (n[k] - 1) / (axes[k][n[k] - 1] - axes[k][0]);
+    }
+    t->val = malloc(sizeof(double) * nval);
+    t->vnode = malloc(sizeof(double) * nv);
+    t->ispan = malloc(sizeof(double) * nv);
+    if (!t->val || !t->vnode || !t->ispan) { tf_table_free(t); return NULL; }
+    memcpy(t->val, values, sizeof(double) * nval);
+    for (int j = 0; j < nv; j++) {
+        t->vnode[j] = pow(10.0, log10_v[j]);
+        t->ispan[j] = j < nv - 1 ? 1.0 / (log10_v[j + 1] - log10_v[j]) : 0.0;
+    }
+    return t;
+}
+
+void tf_table_free(tf_table *t) {
+    if (!t) return;
+    for (int k = 0; k < 3; k++) free(t->ax[k]);
+    free(t->val);
+    free(t->vnode);
+    free(t->ispan);
+    free(t);
+}
+
+/* Cell index i (0..n-2) and fraction f of x on axis k, clamped to the axis. */
+static void locate(const tf_table *t, int k, double x, int *i, double *f) {
+    int n = t->n[k];
+    const double *a = t->ax[k];
+    if (!(x > a[0])) { *i = 0; *f = 0.0; return; }
+    if (!(x < a[n - 1])) { *i = n - 2; *f = 1.0; return; }
+    if (t->uni[k]) {
+        double tt = (x - t->lo[k]) * t->inv[k];
+        int j = (int)tt;
+        if (j > n - 2) j = n - 2;
+        *i = j;
+        *f = tt - j;
+        return;
+    }
+    int lo = 0, hi = n - 1;
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (a[mid] <= x) lo = mid; else hi = mid;
+    }
+    *i = lo;
+    *f = (x - a[lo]) / (a[lo + 1] - a[lo]);
+}
+
+/* Bilinear (T, p) weights and offset of one query. */
+typedef struct {
+    int b;
+    double w00, w01, w10, w11;
+} tf_tp;
+
+static void prep_tp(const tf_table *t, int iT, double fT, double p_rubber, tf_tp *q) {
+    int ip;
+    double fp;
+    double lp = p_rubber > 0.0 ? log10(p_rubber) : -INFINITY;
+    locate(t, 2, lp, &ip, &fp);
+    q->b = (iT * t->n[2] + ip) * 3;
+    q->w00 = (1.0 - fT) * (1.0 - fp);
+    q->w01 = (1.0 - fT) * fp;
+    q->w10 = fT * (1.0 - fp);
+    q->w11 = fT * fp;
+}
+
+/* Branch values (mu_cold, mu_hot, dT_flash) at speed node j for a prepared query. */
+static void node(const tf_table *t, const tf_tp *q, int j, double *out) {
+    const double *v = t->val + (size_t)j * t->n[1] * t->n[2] * 3 + q->b;
+    int o2 = t->n[2] * 3;
+    for (int k = 0; k < 3; k++)
+        out[k] = q->w00 * v[k] + q->w01 * v[3 + k] + q->w10 * v[o2 + k] + q->w11 * v[o2 + 3 + k];
+}
+
+/* ---------------------------------------------------------------- one stage ------------ */
+
+/* Context of one outer step (constant over it). */
+typedef struct {
+    const tf_table *t;
+    int iT;
+    double fT;
+    double kx, ky, dx, dy, m;
+    double Vbx, Vby, Vr;
+    double inv_void, mu_scale;
+    double p_amp, inv_a2;      /* parabola p(x) = p_amp (1 - x^2 / a^2) */
+    double tol_abs;            /* stress tolerance [Pa] */
+    double zx, zy;             /* velocity-error weights sqrt(k m) + d [N s/m^3] */
+} tf_ctx;
+
+/* The friction root problem of one stage (docs/tire-core.md, "stage solve"). */
+typedef struct {
+    const tf_table *t;
+    tf_tp q;
+    double Ax, Ay, gx, gy, G, pf, Zs, Hs, inv_s0;
+    int iso, cell;
+    double c0[3], c1[3], lvj, ispan;
+    double P, E, dT;                /* of the last residual evaluation */
+} tf_stg;
+
+static void set_cell(tf_stg *S, int j) {
+    const tf_table *t = S->t;
+    int nv = t->n[0];
+    S->cell = j;
+    if (j < 0 || j >= nv - 1) {
+        node(t, &S->q, j < 0 ? 0 : nv - 1, S->c0);
+        S->c1[0] = S->c1[1] = S->c1[2] = 0.0;
+        S->lvj = 0.0;
+        S->ispan = 0.0;
+    } else {
+        double n1[3];
+        node(t, &S->q, j, S->c0);
+        node(t, &S->q, j + 1, n1);
+        for (int k = 0; k < 3; k++) S->c1[k] = n1[k] - S->c0[k];
+        S->lvj = t->ax[0][j];
+        S->ispan = t->ispan[j];
+    }
+}
+
+/* Residual R(V) = 1 / |(A V + P(V))^-1 g| - 1 of the stage and its derivative; the friction
+ * stress P = pf mu(V, s), the cold weight E = exp(-s/s0) at s = Zs + Hs V and the flash
+ * temperature of the last evaluation are kept in S. */
+static double resid(tf_stg *S, double V, double *dR) {
+    double mc, mh, dT, dmc, dmh;
+    if (S->ispan > 0.0) {
+        double tt = (log10(V) - S->lvj) * S->ispan;
+        double dl = S->ispan / (V * LN10);
+        mc = S->c0[0] + S->c1[0] * tt;
+        mh = S->c0[1] + S->c1[1] * tt;
+        dT = S->c0[2] + S->c1[2] * tt;
+        dmc = S->c1[0] * dl;
+        dmh = S->c1[1] * dl;
+    } else {
+        mc = S->c0[0];
+        mh = S->c0[1];
+        dT = S->c0[2];
+        dmc = 0.0;
+        dmh = 0.0;
+    }
+    double E = S->inv_s0 > 0.0 ? exp(-(S->Zs + S->Hs * V) * S->inv_s0) : 1.0;
+    double dm = mc - mh;
+    double P = S->pf * (mh + dm * E);
+    double dP = S->pf * ((dmh + (dmc - dmh) * E) - dm * E * (S->Hs * S->inv_s0));
+    double R, d;
+    if (S->iso) {
+        R = (S->Ax * V + P) / S->G - 1.0;
+        d = (S->Ax + dP) / S->G;
+    } else {
+        double Dx = S->Ax * V + P, Dy = S->Ay * V + P;
+        double rx = S->gx / Dx, ry = S->gy / Dy;
+        double Q = rx * rx + ry * ry;
+        double sq = sqrt(Q);
+        R = 1.0 / sq - 1.0;
+        d = (rx * rx * (S->Ax + dP) / Dx + ry * ry * (S->Ay + dP) / Dy) / (Q * sq);
+    }
+    S->P = P;
+    S->E = E;
+    S->dT = dT;
+    *dR = d;
+    return R;
+}
+
+/* Root of R in [lo, hi] (R(lo) < 0 <= R(hi)) by Newton's method from x (where R = r,
+ * R' = d), safeguarded by bisection; returns the last point evaluated (S holds its P, E,
+ * dT). */
+static double solve_cell(tf_stg *S, double lo, double hi, double x, double r, double d) {
+    for (int it = 0; it < 200; it++) {
+        if (r == 0.0) return x;
+        if (r < 0.0) lo = x; else hi = x;
+        double xn = x - r / d;
+        if (!(d > 0.0) || !(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
+        if (fabs(xn - x) <= 1e-14 * xn || hi - lo <= 1e-15 * hi) return x;
+        x = xn;
+        r = resid(S, x, &d);
+    }
+    return x;
+}
+
+typedef struct {
+    double ux, uy, wx, wy, s, V, P, E, dT;
+} tf_stage;
+
+/* One implicit stage Y = Z + Hs F(Y) of an element at pressure p [Pa]: stick, or slide with
+ * the root of R(V) = 0 followed from V_start in the direction of its sign (docs/tire-core.md,
+ * "stage solve"). */
+static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, double Zwx,
+                  double Zwy, double Zs, double V_start, tf_stage *o) {
+    const tf_table *t = c->t;
+    tf_stg S;
+    double mdt = c->m / Hs;
+    double kdx = c->kx * Hs + c->dx, kdy = c->ky * Hs + c->dy;
+    S.t = t;
+    S.Ax = mdt + kdx;
+    S.Ay = mdt + kdy;
+    S.gx = mdt * Zwx - c->kx * Zux + kdx * c->Vbx;
+    S.gy = mdt * Zwy - c->ky * Zuy + kdy * c->Vby;
+    S.G = hypot(S.gx, S.gy);
+    S.pf = c->mu_scale * p;
+    S.Zs = Zs;
+    S.Hs = Hs;
+    S.inv_s0 = t->inv_s0;
+    S.iso = S.Ax == S.Ay;
+    prep_tp(t, c->iT, c->fT, p * c->inv_void, &S.q);
+    set_cell(&S, -1);
+    double E0 = S.inv_s0 > 0.0 ? exp(-Zs * S.inv_s0) : 1.0;
+    double mu0 = S.c0[1] + (S.c0[0] - S.c0[1]) * E0;
+    if (S.G <= mu0 * S.pf) {                  /* the tip sticks */
+        o->V = 0.0;
+        o->wx = 0.0;
+        o->wy = 0.0;
+        o->ux = Zux - Hs * c->Vbx;
+        o->uy = Zuy - Hs * c->Vby;
+        o->s = Zs;
+        o->P = 0.0;
+        o->E = E0;
+        o->dT = S.c0[2];
+        return;
+    }
+    double V_hi = S.G / (S.Ax < S.Ay ? S.Ax : S.Ay);
+    double Vs = V_start < V_hi ? V_start : V_hi;
+    int nv = t->n[0];
+    if (!(Vs > t->vnode[0])) {
+        if (!(Vs > 0.0)) Vs = 0.5 * t->vnode[0] < V_hi ? 0.5 * t->vnode[0] : 0.5 * V_hi;
+    } else if (Vs >= t->vnode[nv - 1]) {
+        set_cell(&S, nv - 1);
+    } else {
+        int j;
+        double f;
+        locate(t, 0, log10(Vs), &j, &f);
+        if (Vs < t->vnode[j]) j -= 1;             /* rounding of log10 */
+        else if (Vs >= t->vnode[j + 1]) j += 1;
+        set_cell(&S, j);
+    }
+    double d, r = resid(&S, Vs, &d);
+    double V;
+    if (r < 0.0) {                            /* accelerating: the first root above */
+        double lo = Vs;
+        for (;;) {
+            int last = 0;
+            double ub = S.cell < nv - 1 ? t->vnode[S.cell + 1] : V_hi;
+            if (ub >= V_hi) { ub = V_hi; last = 1; }
+            int found = 0;
+            for (int k = 0; k < 50 && d > 0.0; k++) {     /* Newton from below */
+                double x = lo - r / d;
+                if (!(x < ub)) break;
+                double dx_, rx_ = resid(&S, x, &dx_);
+                if (rx_ >= 0.0) { V = solve_cell(&S, lo, x, x, rx_, dx_); found = 1; break; }
+                int tiny = x - lo <= 1e-14 * x;
+                lo = x; r = rx_; d = dx_;
+                if (tiny) { V = x; found = 1; break; }
+            }
+            if (found) break;
+            if (last) {
+                double d_ub, r_ub = resid(&S, ub, &d_ub);
+                V = r_ub >= 0.0 ? solve_cell(&S, lo, ub, ub, r_ub, d_ub) : V_hi;
+                break;
+            }
+            /* R is continuous across a node: read it there with the next cell's slope */
+            set_cell(&S, S.cell + 1);
+            double d_ub, r_ub = resid(&S, ub, &d_ub);
+            if (r_ub >= 0.0) { V = solve_cell(&S, lo, ub, ub, r_ub, d_ub); break; }
+            lo = ub;
+            r = r_ub;
+            d = d_ub;
+        }
+    } else if (r > 0.0) {                     /* decelerating: the first root below */
+        double hi = Vs;
+        for (;;) {
+            double lb = S.cell < 0 ? 0.0 : t->vnode[S.cell];
+            int found = 0;
+            for (int k = 0; k < 50 && d > 0.0; k++) {     /* Newton from above */
+                double x = hi - r / d;
+                if (!(x > lb)) break;
+                double dx_, rx_ = resid(&S, x, &dx_);
+                if (rx_ < 0.0) { V = solve_cell(&S, x, hi, x, rx_, dx_); found = 1; break; }
+                int tiny = hi - x <= 1e-14 * hi;
+                hi = x; r = rx_; d = dx_;
+                if (tiny) { V = x; found = 1; break; }
+            }
+            if (found) break;
+            if (S.cell < 0) {                  /* R(0) < 0: the stick test failed */
+                V = solve_cell(&S, 0.0, hi, hi, r, d);
+                break;
+            }
+            set_cell(&S, S.cell - 1);
+            double d_lb, r_lb = resid(&S, lb, &d_lb);
+            if (r_lb < 0.0) { V = solve_cell(&S, lb, hi, lb, r_lb, d_lb); break; }
+            hi = lb;
+            r = r_lb;
+            d = d_lb;
+        }
+    } else {
+        V = Vs;
+    }
+    double P = S.P;
+    double Dx = S.Ax * V + P, Dy = S.Ay * V + P;
+    o->V = V;
+    o->wx = S.gx * V / Dx;
+    o->wy = S.gy * V / Dy;
+    o->ux = Zux + Hs * (o->wx - c->Vbx);
+    o->uy = Zuy + Hs * (o->wy - c->Vby);
+    o->s = Zs + Hs * V;
+    if (o->s > S_MAX) o->s = S_MAX;
+    o->P = P;
+    o->E = S.E;
+    o->dT = S.dT;
+}
+
+static double pressure(const tf_ctx *c, double x) {
+    double w = 1.0 - x * x * c->inv_a2;
+    return w > 0.0 ? c->p_amp * w : 0.0;
+}
+
+/* What an element's integration over one outer step leaves besides its state. */
+typedef struct {
+    double energy;    /* friction work per unit area [J/m^2] */
+    double V, P, E, dT, p;
+    double steps;
+} tf_eres;
+
+/* Integrate one element e[TF_ELEM] over its contact time h_e [s], ending at position x_end
+ * [m] (docs/tire-core.md, "element integration"): SDIRK2 sub-steps with an embedded
+ * first-order error estimate and step-size control. */
+static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_eres *r) {
+    double ux = e[0], uy = e[1], wx = e[2], wy = e[3], s = e[4];
+    double Hn = e[5];
+    if (!(Hn > 0.0) || Hn > h_e) Hn = h_e;
+    double t = 0.0;
+    double energy = 0.0, steps = 0.0;
+    double g1 = (1.0 - GAMMA) / GAMMA, ig = 1.0 / GAMMA;
+    tf_stage o1, o2;
+    o2.V = hypot(wx, wy);
+    o2.P = 0.0;
+    o2.E = c->t->inv_s0 > 0.0 ? exp(-s * c->t->inv_s0) : 1.0;
+    o2.dT = 0.0;
+    double p2 = pressure(c, x_end);
+    while (h_e - t > 1e-12 * h_e) {
+        double rest = h_e - t;
+        int cut = Hn >= rest;
+        double H = cut ? rest : Hn;
+        double Hs = GAMMA * H;
+        double p1 = pressure(c, x_end + c->Vr * (rest - Hs));
+        stage(c, Hs, p1, ux, uy, wx, wy, s, hypot(wx, wy), &o1);
+        double Zux = ux + g1 * (o1.ux - ux), Zuy = uy + g1 * (o1.uy - uy);
+        double Zwx = wx + g1 * (o1.wx - wx), Zwy = wy + g1 * (o1.wy - wy);
+        double Zs = s + g1 * (o1.s - s);
+        double pe = pressure(c, x_end + c->Vr * (rest - H));
+        stage(c, Hs, pe, Zux, Zuy, Zwx, Zwy, Zs, o1.V, &o2);
+        double ex = fabs(o2.ux - (ux + (o1.ux - ux) * ig)) * c->kx;
+        double ey = fabs(o2.uy - (uy + (o1.uy - uy) * ig)) * c->ky;
+        double evx = fabs(o2.wx - (wx + (o1.wx - wx) * ig)) * c->zx;
+        double evy = fabs(o2.wy - (wy + (o1.wy - wy) * ig)) * c->zy;
+        double err = ex;
+        if (ey > err) err = ey;
+        if (evx > err) err = evx;
+        if (evy > err) err = evy;
+        err /= c->tol_abs;
+        double fac = err > 0.0 ? 0.9 / sqrt(err) : 4.0;
+        if (fac > 4.0) fac = 4.0;
+        if (fac < 0.2) fac = 0.2;
+        if (err <= 1.0 || H <= H_MIN) {
+            ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
+            energy += H * ((1.0 - GAMMA) * o1.P * o1.V + GAMMA * o2.P * o2.V);
+            steps += 1.0;
+            p2 = pe;
+            t += H;
+            double Hf = H * fac;
+            Hn = cut ? (Hf > Hn ? Hf : Hn) : Hf;
+        } else {
+            Hn = H * fac;
+            if (Hn < H_MIN) Hn = H_MIN;
+        }
+    }
+    e[0] = ux; e[1] = uy; e[2] = wx; e[3] = wy; e[4] = s; e[5] = Hn;
+    r->energy = energy;
+    r->V = o2.V;
+    r->P = o2.P;
+    r->E = o2.E;
+    r->dT = o2.dT;
+    r->p = p2;
+    r->steps = steps;
+}
+
+/* ---------------------------------------------------------------- patch ---------------- */
+
+static void patch_size(const tf_params *p, double Fz, double *a, double *b) {
+    if (!(Fz > 0.0)) { *a = 0.0; *b = 0.0; return; }
+    double r = (Fz < p->Fz_max ? Fz : p->Fz_max) / (p->C_z * p->R0);
+    *a = p->R0 * (p->q_ra2 * r + p->q_ra1 * sqrt(r));
+    *b = 2.0 * p->width * (p->q_rb2 * r + p->q_rb1 * cbrt(r));
+}
+
+static void ctx_init(tf_ctx *c, const tf_params *p, const tf_table *t, double T, double Fz,
+                     double a, double b, double mu_scale, double Vbx, double Vby, double Vr) {
+    c->t = t;
+    locate(t, 1, T, &c->iT, &c->fT);
+    c->kx = p->k_x;
+    c->ky = p->k_y;
+    c->dx = p->d_x;
+    c->dy = p->d_y;
+    c->m = p->mass;
+    c->Vbx = Vbx;
+    c->Vby = Vby;
+    c->Vr = Vr;
+    c->inv_void = 1.0 / (1.0 - p->void_ratio);
+    c->mu_scale = mu_scale;
+    c->p_amp = 0.75 * Fz / (a * b);
+    c->inv_a2 = 1.0 / (a * a);
+    c->tol_abs = p->tol * (0.5 * Fz / (a * b));
+    c->zx = sqrt(p->k_x * p->mass) + p->d_x;
+    c->zy = sqrt(p->k_y * p->mass) + p->d_y;
+}
+
+static int params_ok(const tf_params *p) {
+    const double pos[] = {p->R_e, p->Fz_nom, p->R0, p->width, p->C_z, p->q_ra1, p->q_rb1,
+                          p->Fz_max, p->k_x, p->k_y, p->dt_internal, p->tol, p->v_floor,
+                          p->kc_x, p->kc_y, p->heat_capacity};
+    const double nonneg[] = {p->mass, p->d_x, p->d_y, p->void_ratio, p->dc_x, p->dc_y,
+                             p->conductance, p->heat_fraction};
+    for (size_t i = 0; i < sizeof pos / sizeof pos[0]; i++)
+        if (!(isfinite(pos[i]) && pos[i] > 0.0)) return 0;
+    for (size_t i = 0; i < sizeof nonneg / sizeof nonneg[0]; i++)
+        if (!(isfinite(nonneg[i]) && nonneg[i] >= 0.0)) return 0;
+    if (!isfinite(p->q_ra2) || !isfinite(p->q_rb2) || !(p->void_ratio < 0.95)) return 0;
+    if (p->n_elements < 2) return 0;
+    return 1;
+}
+
+/* ---------------------------------------------------------------- steady --------------- */
+
+int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const double *in,
+              double T, double mu_scale, double *out) {
+    if (!p || !t || !params_ok(p) || n_cells < 2 || n < 0 || !(T > 0.0) || !isfinite(T) ||
+        !(mu_scale >= 0.0) || !isfinite(mu_scale))
+        return -1;
+    for (int i = 0; i < n * TF_STEADY_IN; i++)
+        if (!isfinite(in[i])) return -1;
+    for (int i = 0; i < n; i++) {
+        const double *q = in + (size_t)i * TF_STEADY_IN;
+        double *o = out + (size_t)i * TF_STEADY_OUT;
+        double Vsx = q[0], Vsy = q[1], Vr = q[2], Fz = q[3];
+        double a, b;
+        patch_size(p, Fz, &a, &b);
+        for (int k = 0; k < TF_STEADY_OUT; k++) o[k] = 0.0;
+        if (!(a > 0.0 && b > 0.0)) continue;
+        double sgn = Vr < 0.0 ? -1.0 : 1.0;
+        double vr = fabs(Vr) > V_ROLL_MIN ? fabs(Vr) : V_ROLL_MIN;
+        double dx = 2.0 * a / n_cells, area = b * dx;
+        tf_ctx c;
+        ctx_init(&c, p, t, T, Fz, a, b, mu_scale, Vsx, Vsy, vr);
+        double e[TF_ELEM] = {0.0, 0.0, Vsx, Vsy, 0.0, 0.0, 1.0};
+        double Fx = 0.0, Fy = 0.0, Mz = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
+        double steps = 0.0, x_prev = a;
+        for (int j = 0; j < n_cells; j++) {
+            double x = a * (1.0 - (2.0 * j + 1.0) / n_cells);
+            tf_eres r;
+            integrate(&c, e, x, (x_prev - x) / vr, &r);
+            x_prev = x;
+            steps += r.steps;
+            double tx = c.kx * e[0] + c.dx * (e[2] - Vsx);
+            double ty = c.ky * e[1] + c.dy * (e[3] - Vsy);
+            Fx += tx;
+            Fy += ty;
+            Mz += x * ty;
+            if (r.V > CREEP_SPEED) {
+                nsl += 1.0;
+                fsl += r.P;
+                psl += r.p;
+                double dT = r.dT * (1.0 - r.E);
+                if (dT > dTm) dTm = dT;
+            }
+        }
+        Fx *= area;
+        Fy *= area;
+        o[0] = Fx;
+        o[1] = Fy;
+        o[2] = Mz * area * sgn;
+        o[3] = Fz > 0.0 ? hypot(Fx, Fy) / Fz : 0.0;
+        o[4] = psl > 0.0 ? fsl / psl : 0.0;
+        o[5] = nsl / n_cells;
+        o[6] = dTm;
+        o[7] = steps;
+    }
+    return 0;
+}
+
+/* ---------------------------------------------------------------- transient ------------ */
+
+#define STATE_HEAD 21   /* version, L, x_top, delta[2], Vb[2], F[2], T_tread, time, out[10] */
+
+tf_tire *tf_tire_new(const tf_params *p, const tf_table *t) {
+    if (!p || !t || !params_ok(p) || !(p->Fz_nom <= p->Fz_max)) return NULL;
+    tf_tire *tire = calloc(1, sizeof *tire);
+    if (!tire) return NULL;
+    tire->p = *p;
+    tire->t = t;
+    double a_nom, b_nom, b_max;
+    patch_size(p, p->Fz_nom, &a_nom, &b_nom);
+    patch_size(p, p->Fz_max, &tire->a_max, &b_max);
+    if (!(a_nom > 0.0) || !(tire->a_max >= a_nom)) { free(tire); return NULL; }
+    tire->dx = 2.0 * a_nom / p->n_elements;
+    tire->L = (int)ceil(2.0 * tire->a_max / tire->dx) + 2;
+    tire->el = calloc((size_t)tire->L * TF_ELEM, sizeof(double));
+    if (!tire->el) { free(tire); return NULL; }
+    tf_tire_reset(tire, NAN);
+    return tire;
+}
+
+void tf_tire_free(tf_tire *tire) {
+    if (!tire) return;
+    free(tire->el);
+    free(tire);
+}
+
+void tf_tire_reset(tf_tire *tire, double T_tread) {
+    memset(tire->el, 0, sizeof(double) * (size_t)tire->L * TF_ELEM);
+    tire->x_top = tire->a_max;
+    tire->delta[0] = tire->delta[1] = 0.0;
+    tire->Vb[0] = tire->Vb[1] = 0.0;
+    tire->F[0] = tire->F[1] = 0.0;
+    tire->T_tread = T_tread;
+    tire->time = 0.0;
+    for (int k = 0; k < TF_NOUT; k++) tire->out[k] = 0.0;
+}
+
+int tf_tire_lattice(const tf_tire *tire) { return tire->L; }
+
+int tf_tire_state_size(const tf_tire *tire) { return STATE_HEAD + TF_ELEM * tire->L; }
+
+double tf_tire_work(const tf_tire *tire) { return tire->work; }
+
+void tf_tire_get_state(const tf_tire *tire, double *buf) {
+    buf[0] = TF_VERSION;
+    buf[1] = tire->L;
+    buf[2] = tire->x_top;
+    buf[3] = tire->delta[0];
+    buf[4] = tire->delta[1];
+    buf[5] = tire->Vb[0];
+    buf[6] = tire->Vb[1];
+    buf[7] = tire->F[0];
+    buf[8] = tire->F[1];
+    buf[9] = tire->T_tread;
+    buf[10] = tire->time;
+    memcpy(buf + 11, tire->out, sizeof(double) * TF_NOUT);
+    memcpy(buf + STATE_HEAD, tire->el, sizeof(double) * (size_t)tire->L * TF_ELEM);
+}
+
+int tf_tire_set_state(tf_tire *tire, const double *buf) {
+    if (buf[0] != TF_VERSION || buf[1] != tire->L) return -1;
+    for (int i = 2; i < STATE_HEAD + TF_ELEM * tire->L; i++)
+        if (i != 9 && !isfinite(buf[i])) return -1;   /* T_tread may be NaN (not yet set) */
+    tire->x_top = buf[2];
+    tire->delta[0] = buf[3];
+    tire->delta[1] = buf[4];
+    tire->Vb[0] = buf[5];
+    tire->Vb[1] = buf[6];
+    tire->F[0] = buf[7];
+    tire->F[1] = buf[8];
+    tire->T_tread = buf[9];
+    tire->time = buf[10];
+    memcpy(tire->out, buf + 11, sizeof(double) * TF_NOUT);
+    memcpy(tire->el, buf + STATE_HEAD, sizeof(double) * (size_t)tire->L * TF_ELEM);
+    return 0;
+}
+
+/* Stiffness of the tread against the belt over an outer step h (linearly implicit belt
+ * coupling, docs/tire-core.md): (k h + d) (m/h + c) / (A + c) per element, with c the
+ * secant friction stiffness p mu / |w| of a sliding element (infinite when it sticks). */
+static void tread_stiffness(const tf_tire *tire, const tf_ctx *c, double h, double T0_unused,
+                            double *Jx, double *Jy) {
+    (void)T0_unused;
+    const tf_params *p = &tire->p;
+    double jx = 0.0, jy = 0.0;
+    double kdx = p->k_x * h + p->d_x, kdy = p->k_y * h + p->d_y, mdt = p->mass / h;
+    for (int i = 0; i < tire->L; i++) {
+        const double *e = tire->el + (size_t)i * TF_ELEM;
+        if (e[6] == 0.0) continue;
+        double V = hypot(e[2], e[3]);
+        if (V == 0.0) {
+            jx += kdx;
+            jy += kdy;
+            continue;
+        }
+        double x = tire->x_top - i * tire->dx;
+        tf_tp q;
+        double pr = pressure(c, x);
+        prep_tp(c->t, c->iT, c->fT, pr * c->inv_void, &q);
+        tf_stg S;
+        S.t = c->t;
+        S.q = q;
+        int j = -1;
+        if (V > c->t->vnode[0]) {
+            if (V >= c->t->vnode[c->t->n[0] - 1]) {
+                j = c->t->n[0] - 1;
+            } else {
+                double f;
+                locate(c->t, 0, log10(V), &j, &f);
+            }
+        }
+        set_cell(&S, j);
+        S.Ax = S.Ay = 1.0;
+        S.gx = S.gy = 0.0;
+        S.G = 1.0;
+        S.pf = c->mu_scale * pr;
+        S.Zs = e[4];
+        S.Hs = 0.0;
+        S.inv_s0 = c->t->inv_s0;
+        S.iso = 1;
+        double dR_;
+        resid(&S, V, &dR_);
+        double cs = S.P / V;
+        double rx = (mdt + cs) / (mdt + kdx + cs), ry = (mdt + cs) / (mdt + kdy + cs);
+        jx += kdx * rx;
+        jy += kdy * ry;
+    }
+    *Jx = jx;
+    *Jy = jy;
+}
+
+/* One outer step of length h (docs/tire-core.md, "outer step"). */
+static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r, double Fz,
+                    double a, double b, double T_surface, double mu_scale, double *fin) {
+    const tf_params *p = &tire->p;
+    double dx = tire->dx;
+    int L = tire->L;
+    double x_top = tire->x_top - V_r * h;
+    double shift = floor((x_top - tire->a_max) / dx);
+    x_top -= shift * dx;
+    tire->x_top = x_top;
+    int sh = (int)shift;
+    if (sh != 0) {
+        if (sh >= L || sh <= -L) {
+            memset(tire->el, 0, sizeof(double) * (size_t)L * TF_ELEM);
+        } else if (sh > 0) {
+            memmove(tire->el, tire->el + (size_t)sh * TF_ELEM,
+                    sizeof(double) * (size_t)(L - sh) * TF_ELEM);
+            memset(tire->el + (size_t)(L - sh) * TF_ELEM, 0, sizeof(double) * (size_t)sh * TF_ELEM);
+        } else {
+            int k = -sh;
+            memmove(tire->el + (size_t)k * TF_ELEM, tire->el,
+                    sizeof(double) * (size_t)(L - k) * TF_ELEM);
+            memset(tire->el, 0, sizeof(double) * (size_t)k * TF_ELEM);
+        }
+    }
+    double T0 = p->thermal ? tire->T_tread : T_surface;
+    double area = b * dx;
+    int any = 0;
+    for (int i = 0; i < L; i++) {
+        double x = x_top - i * dx;
+        double *e = tire->el + (size_t)i * TF_ELEM;
+        if (!(a > 0.0 && area > 0.0 && x < a && x > -a)) {
+            memset(e, 0, sizeof(double) * TF_ELEM);
+        } else {
+            any = 1;
+        }
+    }
+    if (!any) {
+        if (!p->rigid) {
+            tire->delta[0] *= p->dc_x / (p->kc_x * h + p->dc_x);
+            tire->delta[1] *= p->dc_y / (p->kc_y * h + p->dc_y);
+        }
+        tire->Vb[0] = Vsx;
+        tire->Vb[1] = Vsy;
+        tire->F[0] = tire->F[1] = 0.0;
+        if (p->thermal)
+            tire->T_tread = (tire->T_tread + h / p->heat_capacity * (p->conductance * T_surface)) /
+                            (1.0 + h * p->conductance / p->heat_capacity);
+        fin[0] = 0.0;
+        return;
+    }
+    tf_ctx c;
+    ctx_init(&c, p, tire->t, T0, Fz, a, b, mu_scale, Vsx, Vsy, V_r);
+    double Vbx = Vsx, Vby = Vsy;
+    if (!p->rigid) {
+        double Jx, Jy;
+        tread_stiffness(tire, &c, h, T0, &Jx, &Jy);
+        Jx *= area;
+        Jy *= area;
+        double ux = (tire->F[0] - Jx * (Vsx - tire->Vb[0]) - p->kc_x * tire->delta[0]) /
+                    (p->kc_x * h + p->dc_x + Jx);
+        double uy = (tire->F[1] - Jy * (Vsy - tire->Vb[1]) - p->kc_y * tire->delta[1]) /
+                    (p->kc_y * h + p->dc_y + Jy);
+        tire->delta[0] += h * ux;
+        tire->delta[1] += h * uy;
+        Vbx = Vsx + ux;
+        Vby = Vsy + uy;
+    }
+    c.Vbx = Vbx;
+    c.Vby = Vby;
+    double Fx = 0.0, Fy = 0.0, Mz = 0.0, heat = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
+    double n_in = 0.0;
+    for (int i = 0; i < L; i++) {
+        double x = x_top - i * dx;
+        double *e = tire->el + (size_t)i * TF_ELEM;
+        if (!(x < a && x > -a)) continue;
+        double h_e = h;
+        if (e[6] == 0.0) {                        /* enters: tip moving with the belt */
+            if (V_r > 0.0) h_e = (a - x) / V_r;
+            else if (V_r < 0.0) h_e = (a + x) / -V_r;
+            if (h_e > h) h_e = h;
+            e[0] = 0.0;
+            e[1] = 0.0;
+            e[2] = Vbx;
+            e[3] = Vby;
+            e[4] = 0.0;
+            e[5] = h_e;
+            e[6] = 1.0;
+        }
+        tf_eres r;
+        integrate(&c, e, x, h_e, &r);
+        tire->work += r.steps;
+        double tx = c.kx * e[0] + c.dx * (e[2] - Vbx);
+        double ty = c.ky * e[1] + c.dy * (e[3] - Vby);
+        Fx += tx;
+        Fy += ty;
+        Mz += x * ty;
+        heat += r.energy;
+        n_in += 1.0;
+        if (r.V > CREEP_SPEED) {
+            nsl += 1.0;
+            fsl += r.P;
+            psl += r.p;
+            double dT = r.dT * (1.0 - r.E);
+            if (dT > dTm) dTm = dT;
+        }
+    }
+    tire->Vb[0] = Vbx;
+    tire->Vb[1] = Vby;
+    tire->F[0] = Fx * area;
+    tire->F[1] = Fy * area;
+    if (p->thermal) {
+        double Q = heat * area;
+        tire->T_tread = (tire->T_tread + (p->heat_fraction * Q + h * p->conductance * T_surface) /
+                         p->heat_capacity) / (1.0 + h * p->conductance / p->heat_capacity);
+    }
+    fin[0] = 1.0;
+    fin[1] = Mz * area;
+    fin[2] = nsl / n_in;
+    fin[3] = psl > 0.0 ? fsl / psl : 0.0;
+    fin[4] = dTm;
+}
+
+int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
+    double vx = in[0], vy = in[1], omega = in[2], Fz = in[3], Ts = in[4], mus = in[5];
+    if (!(isfinite(dt) && isfinite(vx) && isfinite(vy) && isfinite(omega) && isfinite(Fz) &&
+          isfinite(Ts) && isfinite(mus)) || dt < 0.0 || !(Ts > 0.0) || mus < 0.0)
+        return -1;
+    const tf_params *p = &tire->p;
+    if (isnan(tire->T_tread)) tire->T_tread = Ts;
+    if (dt > 0.0) {
+        double ns = ceil(dt / p->dt_internal - 1e-9);
+        int n_sub = ns > 1.0 ? (int)ns : 1;
+        double h = dt / n_sub;
+        if (Fz < 0.0) Fz = 0.0;
+        double V_r = omega * p->R_e;
+        double a, b;
+        patch_size(p, Fz, &a, &b);
+        double fin[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+        for (int k = 0; k < n_sub; k++)
+            advance(tire, h, vx - V_r, vy, V_r, Fz, a, b, Ts, mus, fin);
+        tire->time += dt;
+        double ref = fabs(vx) > p->v_floor ? fabs(vx) : p->v_floor;
+        double kappa = (omega * p->R_e - vx) / ref;
+        if (vx < 0.0) kappa = -kappa;
+        double alpha = atan2(-vy, ref);
+        double T0 = p->thermal ? tire->T_tread : Ts;
+        double *o = tire->out;
+        if (fin[0] == 0.0) {
+            o[0] = 0.0; o[1] = 0.0; o[2] = 0.0; o[5] = 0.0; o[6] = 0.0; o[7] = 0.0; o[8] = 0.0;
+        } else {
+            o[0] = tire->F[0];
+            o[1] = tire->F[1];
+            o[2] = fin[1];
+            o[5] = Fz > 0.0 ? hypot(tire->F[0], tire->F[1]) / Fz : 0.0;
+            o[6] = fin[3];
+            o[7] = fin[2];
+            o[8] = fin[4];
+        }
+        o[3] = kappa;
+        o[4] = alpha;
+        o[9] = T0;
+    }
+    memcpy(out, tire->out, sizeof(double) * TF_NOUT);
+    return 0;
+}
+
+#ifdef TF_PYTHON_EXTENSION
+/* The package's install builds this library with setuptools as an "extension" file; it is
+ * loaded with ctypes and never imported, but Windows' linker wants the init symbol. */
+TF_API void *PyInit__tirecore(void) { return 0; }
+#endif

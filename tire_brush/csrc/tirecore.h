@@ -1,0 +1,97 @@
+/*
+ * tirecore: the transient brush tire of tirefric as a small C99 library.
+ *
+ * Tread elements (tip mass on a Kelvin-Voigt shear spring to the belt) cross the contact
+ * patch; each sticks or slides with the friction of the review's eq. (28) (cold and hot
+ * branch blended by the slipped distance), read from a table on (log10 v, T, log10 p).
+ * The belt is a massless ring on springs and dampers against the rim; the tread carries an
+ * optional lumped temperature. docs/tire-core.md describes the method; the Python module
+ * tire_brush/element.py is its readable reference, pinned to this file by the tests.
+ *
+ * No global state: every function works on the objects it is given, so several tires run in
+ * one process. No allocation after tf_tire_new. The library needs only libm.
+ */
+#ifndef TIRECORE_H
+#define TIRECORE_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(_WIN32)
+#define TF_API __declspec(dllexport)
+#else
+#define TF_API __attribute__((visibility("default")))
+#endif
+
+/* Version of this API and of the state layout (tf_tire_get_state). */
+#define TF_VERSION 2
+/* Outputs of tf_tire_step, in order: Fx, Fy [N], Mz [N m], kappa [1], alpha [rad], mu_eff,
+ * mu_slide, sliding_fraction [1], dT_flash_max [K], T_tread [K]. */
+#define TF_NOUT 10
+/* Columns of one lattice element in the state: u_x, u_y [m], w_x, w_y [m/s], s [m],
+ * last sub-step [s], in contact (0/1). */
+#define TF_ELEM 7
+/* Columns of one steady operating point (tf_steady): V_sx, V_sy, V_r [m/s], Fz [N]. */
+#define TF_STEADY_IN 4
+/* Results of one steady point: Fx, Fy, Mz, mu_eff, mu_slide, sliding_fraction,
+ * dT_flash_max, sub-steps taken. */
+#define TF_STEADY_OUT 8
+
+typedef struct tf_table tf_table;
+typedef struct tf_tire tf_tire;
+
+/* Tire parameters, SI units (tire_brush/params.py documents each field). */
+typedef struct {
+    double R_e, Fz_nom;
+    /* patch law, Pacejka 2012 eqs. (A3.7)-(A3.8) */
+    double R0, width, C_z, q_ra1, q_ra2, q_rb1, q_rb2, Fz_max;
+    /* tread elements per unit area */
+    double k_x, k_y, mass, d_x, d_y, void_ratio;
+    /* belt on the rim */
+    int rigid;
+    double kc_x, kc_y, dc_x, dc_y;
+    /* lumped tread temperature */
+    int thermal;
+    double heat_capacity, conductance, heat_fraction;
+    /* discretisation */
+    int n_elements;     /* elements on the patch at Fz_nom */
+    double dt_internal; /* longest outer (belt and lattice) step [s] */
+    double tol;         /* local error tolerance of the element integration [1] */
+    double v_floor;     /* speed floor of the reported slips [m/s] */
+} tf_params;
+
+/* Friction table: axes (uniform or not, strictly ascending) and node values
+ * values[((iv * nT + iT) * np + ip) * 3 + k], k = mu_cold, mu_hot, dT_flash.
+ * inv_s0 = 1/s0 of eq. (28) [1/m] (0: cold only). Copies the data; NULL on bad input. */
+TF_API tf_table *tf_table_new(int nv, int nT, int np, const double *log10_v, const double *T,
+                              const double *log10_p, const double *values, double inv_s0);
+TF_API void tf_table_free(tf_table *t);
+
+/* A tire on a table (the table must outlive the tire). NULL on bad parameters. */
+TF_API tf_tire *tf_tire_new(const tf_params *p, const tf_table *t);
+TF_API void tf_tire_free(tf_tire *tire);
+/* Undeflected tire at rest; tread temperature T_tread [K] (NaN: the next step's T_surface). */
+TF_API void tf_tire_reset(tf_tire *tire, double T_tread);
+/* Advance by dt [s] with inputs held: in = {vx, vy, omega, Fz, T_surface, mu_scale}.
+ * Writes TF_NOUT outputs. Returns 0, or -1 for inputs it refuses (non-finite, dt < 0,
+ * T_surface <= 0, mu_scale < 0), leaving the state unchanged. */
+TF_API int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out);
+/* Lattice size, doubles in the state, and the state itself (copy out / in). */
+TF_API int tf_tire_lattice(const tf_tire *tire);
+TF_API int tf_tire_state_size(const tf_tire *tire);
+TF_API void tf_tire_get_state(const tf_tire *tire, double *buf);
+TF_API int tf_tire_set_state(tf_tire *tire, const double *buf);
+/* Sub-steps taken by the elements since creation (a work counter for benchmarks). */
+TF_API double tf_tire_work(const tf_tire *tire);
+
+/* Steady state of n operating points (one element marched through the patch over n_cells
+ * cells, belt at rest), at background temperature T [K] and friction scale mu_scale:
+ * in[i * TF_STEADY_IN + ...], out[i * TF_STEADY_OUT + ...]. Returns 0 or -1. */
+TF_API int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const double *in,
+                     double T, double mu_scale, double *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
