@@ -48,7 +48,7 @@ from tire_brush.transient import DT_INTERNAL, N_TRANSIENT
 from .interface import MODEL_NAME, check_tire_fields, default_limits, tire_to_dict, variables
 from .model_description import postprocess
 from .package import RuntimePackage, build_runtime
-from .slave import BUILD_FILE, DATA_DIR
+from .slave import BUILD_FILE, CORE_DIR, DATA_DIR
 
 #: Name of the grid archive inside the FMU's data folder.
 GRID_FILE = "grid.npz"
@@ -197,6 +197,28 @@ def _grid_provenance(grid: Any) -> dict[str, Any]:
             if isinstance(v, str | int | float) and not isinstance(v, bool)}
 
 
+def _stage_core(data: Path) -> dict[str, Any]:
+    """Copy the compiled tire core (this platform's build) and its C sources into the FMU's
+    data folder; returns their description for ``build.json``."""
+    from tire_brush import ccore
+
+    lib = ccore.library_path()
+    rel = f"{CORE_DIR}/{ccore.platform_dir()}/{ccore.library_file_name()}"
+    target = data / rel
+    target.parent.mkdir(parents=True, exist_ok=True)
+    blob = lib.read_bytes()
+    target.write_bytes(blob)
+    sources = {}
+    for name in (*ccore.SOURCES, "tirecore.h"):
+        text = (ccore.SOURCE_DIR / name).read_bytes()
+        (data / CORE_DIR / "csrc").mkdir(parents=True, exist_ok=True)
+        (data / CORE_DIR / "csrc" / name).write_bytes(text)
+        sources[name] = "sha256:" + hashlib.sha256(text).hexdigest()
+    return {"library": rel, "platform": ccore.platform_dir(),
+            "library_sha256": "sha256:" + hashlib.sha256(blob).hexdigest(),
+            "sources": sources}
+
+
 def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
                     options: BuildOptions | None = None, *, grid_source: str = "",
                     runtime: RuntimePackage | None = None) -> dict[str, Any]:
@@ -256,6 +278,9 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_text(runtime.files[rel], encoding="utf-8")
         (directory / "requirements.txt").write_text("\n".join(REQUIREMENTS) + "\n")
+        core = _stage_core(data)
+        build["core"] = core
+        h.update(_json_bytes(core))
     build["build_id"] = "sha256:" + h.hexdigest()
     (data / BUILD_FILE).write_bytes(_json_bytes(build))
     return build

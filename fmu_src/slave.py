@@ -61,12 +61,16 @@ from fmu_src.interface import (
     variables,
 )
 from lookup.grid.reader import FrictionGrid
+from tire_brush import ccore
 from tire_brush.friction import GridFriction
 from tire_brush.slip import BrushOutputs, slip_from_kinematics
 from tire_brush.transient import TransientBrushTire
 
 #: Folder inside the FMU's resources with build.json and the grid.
 DATA_DIR = "tirefric-data"
+#: Folder inside :data:`DATA_DIR` with the compiled tire core (``<platform>/<library>``) and
+#: its C sources.
+CORE_DIR = "tirecore"
 #: Name of the build description inside :data:`DATA_DIR`.
 BUILD_FILE = "build.json"
 #: Tag of the FMU state.
@@ -105,6 +109,9 @@ class BrushTireSlave(Fmi2Slave):
         if self.resources is None:
             raise ValueError("BrushTireSlave needs its resources folder (resources=...)")
         build = read_build(self.resources)
+        core = build.get("core")
+        if core is not None:                          # the FMU's own build of the tire core
+            ccore.use_library(Path(self.resources) / DATA_DIR / core["library"])
         self._build = build
         self.modelName = MODEL_NAME
         for key in ("author", "description", "version", "license", "copyright"):

@@ -49,6 +49,8 @@ N_OUT, N_ELEM, STEADY_IN, STEADY_OUT = 10, 7, 4, 8
 
 _lock = threading.Lock()
 _lib: ctypes.CDLL | None = None
+#: A library chosen by :func:`use_library` (an FMU's own copy), tried first.
+_chosen: Path | None = None
 
 
 class CoreError(TirefricError, RuntimeError):
@@ -121,8 +123,39 @@ def compile_library(out_dir: str | Path | None = None, *, cc: str | None = None)
     return target
 
 
+def platform_dir() -> str:
+    """FMI 2.0 name of this platform's binaries folder (``linux64``, ``win64``,
+    ``darwin64``)."""
+    bits = "64" if sys.maxsize > 2**32 else "32"
+    if sys.platform == "win32":
+        return "win" + bits
+    if sys.platform == "darwin":
+        return "darwin" + bits
+    return "linux" + bits
+
+
+def library_file_name() -> str:
+    """File name of the core library on this platform."""
+    return {"win32": "tirecore.dll", "darwin": "libtirecore.dylib"}.get(sys.platform,
+                                                                         "libtirecore.so")
+
+
+def use_library(path: str | Path) -> bool:
+    """Load the core from ``path`` (an FMU's own copy) instead of the installed one, if the
+    core is not loaded yet in this module; returns whether ``path`` is the one in use."""
+    global _chosen
+    path = Path(path)
+    with _lock:
+        if _lib is None:
+            _chosen = path
+        return _chosen == path
+
+
 def library_path() -> Path:
-    """The core library: ``$TIREFRIC_CORE`` if set, the installed one, else a cached build."""
+    """The core library: one chosen by :func:`use_library`, ``$TIREFRIC_CORE`` if set, the
+    installed one, else a cached build."""
+    if _chosen is not None and _chosen.is_file():
+        return _chosen
     env = os.environ.get("TIREFRIC_CORE")
     if env:
         return Path(env)

@@ -263,9 +263,10 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
     Returns
     -------
     tuple
-        ``(u_x, u_y, w_x, w_y, s, V, P, E, dT_flash)``: the stage state, its slip speed, the
-        friction stress ``P = mu_scale p mu`` [Pa] (0 when sticking), the cold weight of
-        eq. (28) and the hot branch's flash temperature rise [K].
+        ``(u_x, u_y, w_x, w_y, s, V, P, E, dT_flash, f_x, f_y)``: the stage state, its slip
+        speed, the friction stress ``P = mu_scale p mu`` [Pa] (0 when sticking), the cold
+        weight of eq. (28), the hot branch's flash temperature rise [K] and the friction
+        stress vector on the tip ``f = A w - g`` [Pa] (what holds a sticking tip).
     """
     t = c.t
     S = _Stage()
@@ -288,7 +289,8 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
     E0 = math.exp(-Zs * S.inv_s0) if S.inv_s0 > 0.0 else 1.0
     mu0 = S.c0[1] + (S.c0[0] - S.c0[1]) * E0
     if S.G <= mu0 * S.pf:                       # the tip sticks
-        return (Zux - Hs * c.Vbx, Zuy - Hs * c.Vby, 0.0, 0.0, Zs, 0.0, 0.0, E0, S.c0[2])
+        return (Zux - Hs * c.Vbx, Zuy - Hs * c.Vby, 0.0, 0.0, Zs, 0.0, 0.0, E0, S.c0[2],
+                -S.gx, -S.gy)
     V_hi = S.G / (S.Ax if S.Ax < S.Ay else S.Ay)
     Vs = V_start if V_start < V_hi else V_hi
     nv = t.n[0]
@@ -382,7 +384,8 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
     s = Zs + Hs * V
     if s > S_MAX:
         s = S_MAX
-    return (Zux + Hs * (wx - c.Vbx), Zuy + Hs * (wy - c.Vby), wx, wy, s, V, P, S.E, S.dT)
+    return (Zux + Hs * (wx - c.Vbx), Zuy + Hs * (wy - c.Vby), wx, wy, s, V, P, S.E, S.dT,
+            S.Ax * wx - S.gx, S.Ay * wy - S.gy)
 
 
 def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, ...]:
@@ -392,9 +395,10 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
     Returns
     -------
     tuple
-        ``(energy, V, P, E, dT_flash, p, steps)``: friction work per unit area over the step
-        [J/m^2], the end-of-step slip speed, friction stress, cold weight, flash temperature
-        rise, pressure, and the sub-steps taken.
+        ``(energy, V, P, E, dT_flash, p, steps, f_x, f_y)``: friction work per unit area
+        over the step [J/m^2], the end-of-step slip speed, friction stress, cold weight, flash
+        temperature rise, pressure, the sub-steps taken and the end-of-step friction stress
+        vector [Pa] (the road's force on the element).
     """
     ux, uy, wx, wy, s = e[0], e[1], e[2], e[3], e[4]
     Hn = e[5]
@@ -405,12 +409,25 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
     g1 = (1.0 - GAMMA) / GAMMA
     ig = 1.0 / GAMMA
     o2 = (0.0, 0.0, 0.0, 0.0, 0.0, math.hypot(wx, wy), 0.0,
-          math.exp(-s * c.t.inv_s0) if c.t.inv_s0 > 0.0 else 1.0, 0.0)
+          math.exp(-s * c.t.inv_s0) if c.t.inv_s0 > 0.0 else 1.0, 0.0, 0.0, 0.0)
     p2 = c.pressure(x_end)
     while h_e - t > 1e-12 * h_e:
         rest = h_e - t
         cut = Hn >= rest
         H = rest if cut else Hn
+        if H <= H_MIN:
+            # event step: at the smallest step a stick-slip event (a snap, instantaneous for a
+            # massless tip) is taken with one implicit Euler stage, which lands on the new
+            # equilibrium; the SDIRK extrapolation would overshoot it
+            pe = c.pressure(x_end + c.Vr * (rest - H))
+            o2 = stage(c, H, pe, ux, uy, wx, wy, s, math.hypot(wx, wy))
+            ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
+            energy += H * (o2[6] * o2[5])
+            steps += 1.0
+            p2 = pe
+            t += H
+            Hn = Hn if cut else 4.0 * H
+            continue
         Hs = GAMMA * H
         p1 = c.pressure(x_end + c.Vr * (rest - Hs))
         o1 = stage(c, Hs, p1, ux, uy, wx, wy, s, math.hypot(wx, wy))
@@ -437,7 +454,7 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             fac = 4.0
         if fac < 0.2:
             fac = 0.2
-        if err <= 1.0 or H <= H_MIN:
+        if err <= 1.0:
             ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
             energy += H * ((1.0 - GAMMA) * o1[6] * o1[5] + GAMMA * o2[6] * o2[5])
             steps += 1.0
@@ -450,7 +467,7 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             if Hn < H_MIN:
                 Hn = H_MIN
     e[0], e[1], e[2], e[3], e[4], e[5] = ux, uy, wx, wy, s, Hn
-    return energy, o2[5], o2[6], o2[7], o2[8], p2, steps
+    return energy, o2[5], o2[6], o2[7], o2[8], p2, steps, o2[9], o2[10]
 
 
 def patch_size(p, Fz: float) -> tuple[float, float]:
@@ -494,14 +511,12 @@ def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float
     x_prev = a
     for j in range(n_cells):
         x = a * (1.0 - (2.0 * j + 1.0) / n_cells)
-        _, V, P, E, dT, pj, st = integrate(c, e, x, (x_prev - x) / vr)
+        _, V, P, E, dT, pj, st, fx, fy = integrate(c, e, x, (x_prev - x) / vr)
         x_prev = x
         steps += st
-        tx = c.kx * e[0] + c.dx * (e[2] - Vsx)
-        ty = c.ky * e[1] + c.dy * (e[3] - Vsy)
-        Fx += tx
-        Fy += ty
-        Mz += x * ty
+        Fx += fx
+        Fy += fy
+        Mz += x * fy
         if V > CREEP_SPEED:
             nsl += 1.0
             fsl += P
@@ -659,7 +674,7 @@ class RefTire:
             self.delta = [self.delta[0] + h * ux, self.delta[1] + h * uy]
             Vbx, Vby = Vsx + ux, Vsy + uy
         c.Vbx, c.Vby = Vbx, Vby
-        Fx = Fy = Mz = heat = nsl = fsl = psl = dTm = n_in = 0.0
+        Fx = Fy = Mz = heat = nsl = fsl = psl = dTm = n_in = Tx = Ty = 0.0
         for i in range(L):
             x = x_top - i * dx
             e = self.el[i]
@@ -674,13 +689,13 @@ class RefTire:
                 if h_e > h:
                     h_e = h
                 e[:] = [0.0, 0.0, Vbx, Vby, 0.0, h_e, 1.0]
-            energy, V, P, E, dT, pe, st = integrate(c, e, x, h_e)
+            energy, V, P, E, dT, pe, st, fx, fy = integrate(c, e, x, h_e)
             self.work += st
-            tx = c.kx * e[0] + c.dx * (e[2] - Vbx)
-            ty = c.ky * e[1] + c.dy * (e[3] - Vby)
-            Fx += tx
-            Fy += ty
-            Mz += x * ty
+            Tx += c.kx * e[0] + c.dx * (e[2] - Vbx)
+            Ty += c.ky * e[1] + c.dy * (e[3] - Vby)
+            Fx += fx
+            Fy += fy
+            Mz += x * fy
             heat += energy
             n_in += 1.0
             if V > CREEP_SPEED:
@@ -691,7 +706,8 @@ class RefTire:
                 if d > dTm:
                     dTm = d
         self.Vb = [Vbx, Vby]
-        self.F = [Fx * area, Fy * area]
+        self.F = [Tx * area, Ty * area]
+        self.Fr = [Fx * area, Fy * area]
         if p.thermal:
             Q = heat * area
             self.T_tread = (self.T_tread + (p.heat_fraction * Q + h * p.conductance * Ts)
@@ -726,8 +742,8 @@ class RefTire:
             if fin[0] == 0.0:
                 o[0] = o[1] = o[2] = o[5] = o[6] = o[7] = o[8] = 0.0
             else:
-                o[0], o[1], o[2] = self.F[0], self.F[1], fin[1]
-                o[5] = math.hypot(self.F[0], self.F[1]) / Fz if Fz > 0.0 else 0.0
+                o[0], o[1], o[2] = self.Fr[0], self.Fr[1], fin[1]
+                o[5] = math.hypot(self.Fr[0], self.Fr[1]) / Fz if Fz > 0.0 else 0.0
                 o[6], o[7], o[8] = fin[3], fin[2], fin[4]
             o[3], o[4], o[9] = kappa, alpha, T0
         return list(self.out)

@@ -2,45 +2,45 @@
 
 In steady state every element repeats the history of the one before it, so the patch is
 computed by following one element from the leading edge to the trailing edge (Pacejka 2012,
-ch. 3): ``n`` equal cells, the element at the cell midpoints, the first step half a cell long
-(an element enters undeflected at the edge; physics-notes: accumulating from cell edges while
-evaluating at midpoints doubles the first deflection). Each step is the implicit element step of
-:mod:`tire_brush.element` with ``dt = dx / |V_r|``, so the steady model and the transient model
-share one element law (stick, slide with eq. (28) friction, tip mass and damping). The belt is
-at rest relative to the rim in steady state: carcass compliance does not enter.
+ch. 3): it enters with its tip moving with the belt (slip velocity ``V_s``, undeflected), is
+integrated in time with the error-controlled element integration of the transient model
+(:mod:`tire_brush.element`, docs/tire-core.md), and its stress is sampled at ``n`` equal cell
+midpoints; the force is the midpoint sum. The steady and the transient model therefore share
+one element law (stick, slide with eq. (28) friction, tip mass and damping) and one
+integrator. The belt is at rest relative to the rim in steady state: carcass compliance does
+not enter.
 
-Many operating points are solved at once (numpy over points); points with different
-temperatures are grouped. A single operating point takes a line-for-line pure-Python copy of
-the element step (:func:`~tire_brush.element.march_point`): for one point numpy's per-call
-overhead dominates (0.9 ms instead of 6 ms at 64 cells); tests pin the two paths together.
+The march runs in the compiled core (``tf_steady``, :mod:`tire_brush.ccore`), many operating
+points per call; ``backend = "reference"`` runs the Python reference
+(:func:`tire_brush.element.steady_point`, bit for bit the same).
 
-Rolling backwards (``V_r < 0``) mirrors the patch (elements enter at
-``x = -a``). A wheel that does not roll (``|V_r|`` below :data:`V_ROLL_MIN`) is computed at
-``V_r = V_ROLL_MIN``: the elements stay in the patch so long that they reach the fully
-developed hot branch (a locked wheel); no speed is divided by zero.
+Rolling backwards (``V_r < 0``) mirrors the patch (elements enter at ``x = -a``). A wheel
+that does not roll (``|V_r|`` below :data:`V_ROLL_MIN`) is computed at ``V_r = V_ROLL_MIN``:
+the elements stay in the patch so long that they reach the fully developed hot branch (a
+locked wheel); no speed is divided by zero.
 """
 
 from __future__ import annotations
 
-import math
+import ctypes
 from typing import Any
 
 import numpy as np
 
 from lookup.errors import InputError
 
-from .element import CREEP_SPEED, ElementProps, StepCoefficients, element_step, march_point
-from .friction import BranchTable, FrictionModel, FrictionQuery, as_table
+from . import ccore
+from .element import V_ROLL_MIN, RefTable, steady_point
+from .friction import BranchTable, FrictionModel, as_table
 from .params import TireParams
-from .patch import midpoint_weights, patch_size
-from .slip import BrushOutputs, velocities_from_slip
+from .slip import V_FLOOR, BrushOutputs, velocities_from_slip
 
 #: Default number of cells along the patch of the steady model (convergence: tests).
 N_STEADY = 64
-#: Default friction evaluations per element step of the steady model.
-N_NEWTON_STEADY = 2
-#: Smallest rolling speed of the steady model [m/s] (module docstring).
-V_ROLL_MIN = 1e-6
+#: Default local error tolerance of the element integration [1].
+TOL = 1e-2
+
+__all__ = ["N_STEADY", "TOL", "V_ROLL_MIN", "SteadyBrush"]
 
 
 def _finite(name: str, x: np.ndarray) -> None:
@@ -62,28 +62,36 @@ class SteadyBrush:
         Cells along the patch.
     massless
         Drop the tip mass and damping (Pacejka's massless brush, for the closed forms).
-    n_newton
-        Friction evaluations per element step (:func:`~tire_brush.element.element_step`).
+    tol
+        Local error tolerance of the element integration [1] (docs/tire-core.md).
+    backend
+        ``"c"`` (the compiled core) or ``"reference"`` (the same algorithm in Python).
     """
 
     def __init__(self, params: TireParams, friction: FrictionModel | BranchTable | Any, *,
-                 n_elements: int = N_STEADY, massless: bool = False,
-                 n_newton: int = N_NEWTON_STEADY) -> None:
-        if not (isinstance(n_elements, int) and n_elements >= 2):
+                 n_elements: int = N_STEADY, massless: bool = False, tol: float = TOL,
+                 backend: str = "c") -> None:
+        if isinstance(n_elements, bool) or not (isinstance(n_elements, int) and n_elements >= 2):
             raise InputError("must be an integer >= 2", field="n_elements", value=n_elements)
+        if not (isinstance(tol, int | float) and np.isfinite(tol) and tol > 0):
+            raise InputError("must be a finite number > 0", field="tol", value=tol)
+        if backend not in ("c", "reference"):
+            raise InputError("must be 'c' or 'reference'", field="backend", value=backend)
         self.params = params
         self.table = as_table(friction)
-        self.props = ElementProps.from_tread(params.tread, massless=massless)
-        if not (isinstance(n_newton, int) and n_newton >= 1):
-            raise InputError("must be an integer >= 1", field="n_newton", value=n_newton)
         self.n_elements = n_elements
-        self.n_newton = n_newton
-        self._xi, self._share = midpoint_weights(n_elements)
-        uniform, lv0, inv = self.table._ax[0]
-        #: single points take the pure-Python march (needs index arithmetic on the speed axis)
-        self._scalar_ok = uniform
-        self._v_axis = (lv0, inv, float(self.table.log10_v.size - 1),
-                        self.table._inv_dlnv.tolist())
+        self.tol = float(tol)
+        self.massless = bool(massless)
+        self.backend = backend
+        self._P = ccore.core_params(params, n_elements=n_elements, dt_internal=1.0, tol=tol,
+                                    v_floor=V_FLOOR, thermal=False, rigid=True,
+                                    massless=massless)
+        if backend == "c":
+            self._lib = ccore.load()
+            self._ctab = ccore.core_table(self.table)
+        else:
+            t = self.table
+            self._rtab = RefTable(t.log10_v, t.T, t.log10_p, t.values, t.inv_s0)
 
     def solve(self, kappa: Any, alpha: Any, vx: Any, Fz: Any, T: Any,
               mu_scale: float = 1.0) -> BrushOutputs:
@@ -132,82 +140,29 @@ class SteadyBrush:
         if not (np.isfinite(mu_scale) and mu_scale >= 0):
             raise InputError("must be a finite number >= 0", field="mu_scale", value=mu_scale)
         res = np.zeros((7, Vsx.size))
-        if Vsx.size == 1 and self._scalar_ok:
-            res[:, 0] = self._march_point(float(Vsx[0]), float(Vsy[0]), float(Vr[0]),
-                                          float(Fz_[0]), float(T_[0]), float(mu_scale))
-        else:
-            for Tu in np.unique(T_):
-                sel = np.flatnonzero(T_ == Tu)
-                res[:, sel] = self._march(Vsx[sel], Vsy[sel], Vr[sel], Fz_[sel], float(Tu),
-                                          float(mu_scale))
+        for Tu in np.unique(T_):
+            sel = np.flatnonzero(T_ == Tu)
+            res[:, sel] = self._march(Vsx[sel], Vsy[sel], Vr[sel], Fz_[sel], float(Tu),
+                                      float(mu_scale))
         Fx, Fy, Mz, mu_eff, mu_slide, frac, dT = (r.reshape(shape) for r in res)
         zero = np.zeros(shape)
         return BrushOutputs(Fx, Fy, Mz, zero, zero.copy(), mu_eff, mu_slide, frac, dT,
                             np.broadcast_to(arrs[4], shape).copy())
 
-    def _march_point(self, Vsx: float, Vsy: float, Vr: float, Fz: float, T: float,
-                     mu_scale: float) -> np.ndarray:
-        """:meth:`_march` for one point in Python floats (:func:`~.element.march_point`)."""
-        n = self.n_elements
-        a, b = self.params.patch.size(Fz)
-        area = b * 2.0 * a / n
-        if not area > 0:
-            return np.zeros(7)
-        sgn = -1.0 if Vr < 0 else 1.0
-        dt = 2.0 * a / n / max(abs(Vr), V_ROLL_MIN)
-        p = self._share * (Fz / area)
-        q = self.table.prepare(T, p / (1.0 - self.params.tread.void_ratio))
-        nodes = np.broadcast_to(10.0 ** self.table.log10_v, (n, self.table.log10_v.size))
-        rows = self.table.at(nodes, FrictionQuery(q.base[:, None], q.fp[:, None], q.fT,
-                                                   q.mu0))
-        rows = np.concatenate([rows, rows[:, :, -1:]], axis=2).transpose(1, 0, 2).tolist()
-        Fx, Fy, Mz, n_sl, f_sl, p_sl, dT = march_point(
-            self.props, rows, q.mu0.T.tolist(), p.tolist(), (p * mu_scale).tolist(),
-            self._xi.tolist(), (0.5 * dt, dt), (Vsx, Vsy), self._v_axis, self.table.inv_s0,
-            self.n_newton)
-        Fx, Fy, Mz = Fx * area, Fy * area, Mz * area * a * sgn
-        mu_eff = math.hypot(Fx, Fy) / Fz
-        return np.array([Fx, Fy, Mz, mu_eff, f_sl / p_sl if p_sl > 0 else 0.0, n_sl / n, dT])
-
     def _march(self, Vsx: np.ndarray, Vsy: np.ndarray, Vr: np.ndarray, Fz: np.ndarray,
                T: float, mu_scale: float) -> np.ndarray:
-        """Follow one element through the patch for every point (module docstring)."""
-        n, P = self.n_elements, Vsx.size
-        tread = self.params.tread
-        a, b = patch_size(self.params.patch, Fz)
-        dx = 2.0 * a / n
-        area = b * dx
-        loaded = area > 0
-        safe_area = np.where(loaded, area, 1.0)
-        sgn = np.where(Vr < 0, -1.0, 1.0)
-        dt = np.where(loaded, dx, 1.0) / np.maximum(np.abs(Vr), V_ROLL_MIN)   # 1: unloaded
-        Vb = np.stack([Vsx, Vsy])
-        # pressures of every cell and point, and their table indices
-        p = self._share[:, None] * np.where(loaded, np.maximum(Fz, 0.0) / safe_area, 0.0)
-        query = self.table.prepare(T, p / (1.0 - tread.void_ratio))   # all cells at once
-        pf = p * mu_scale
-        state = np.zeros((5, P))
-        F = np.zeros((2, P))
-        Mz = np.zeros(P)
-        n_slide = np.zeros(P)
-        f_slide = np.zeros(P)
-        p_slide = np.zeros(P)
-        dT_max = np.zeros(P)
-        co_first = StepCoefficients.build(self.props, 0.5 * dt)
-        co = StepCoefficients.build(self.props, dt)
-        for j in range(n):
-            r = element_step(state, pf[j], Vb, self.props, co_first if j == 0 else co,
-                             self.table, query[j], n_newton=self.n_newton)
-            F += r.tau
-            Mz += self._xi[j] * r.tau[1]
-            sliding = r.speed > CREEP_SPEED
-            n_slide += sliding
-            f_slide += r.friction * sliding
-            p_slide += p[j] * sliding
-            np.maximum(dT_max, r.dT_flash * (1.0 - r.cold) * sliding, out=dT_max)
-        F *= area
-        Mz *= area * a * sgn
-        Fabs = np.hypot(F[0], F[1])
-        mu_eff = np.where(Fz > 0, Fabs / np.where(Fz > 0, Fz, 1.0), 0.0)
-        mu_slide = np.where(p_slide > 0, f_slide / np.where(p_slide > 0, p_slide, 1.0), 0.0)
-        return np.stack([F[0], F[1], Mz, mu_eff, mu_slide, n_slide / n, dT_max]) * loaded
+        """Follow one element through the patch for every point (module docstring); rows
+        ``Fx, Fy, Mz, mu_eff, mu_slide, sliding_fraction, dT_flash_max``."""
+        pts = np.ascontiguousarray(np.stack([Vsx, Vsy, Vr, Fz], axis=1), dtype=float)
+        n = pts.shape[0]
+        if self.backend == "reference":
+            out = np.array([steady_point(self._P, self._rtab, self.n_elements, *row, T,
+                                         mu_scale) for row in pts.tolist()]).reshape(n, 8)
+        else:
+            out = np.zeros((n, ccore.STEADY_OUT))
+            rc = self._lib.tf_steady(ctypes.byref(self._P), self._ctab.handle,
+                                     self.n_elements, n, ccore._ptr(pts), float(T),
+                                     float(mu_scale), ccore._ptr(out))
+            if rc != 0:                               # inputs are checked above
+                raise InputError("the tire core refused the operating points", field="points")
+        return out[:, :7].T.copy()

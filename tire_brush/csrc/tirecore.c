@@ -42,6 +42,7 @@ struct tf_tire {
     int L;
     double *el;
     double x_top, delta[2], Vb[2], F[2], T_tread, time;
+    double Fr[2];      /* road force (friction) of the last step [N] (outputs) */
     double out[TF_NOUT];
     double work;
 };
@@ -257,7 +258,7 @@ static double solve_cell(tf_stg *S, double lo, double hi, double x, double r, do
 }
 
 typedef struct {
-    double ux, uy, wx, wy, s, V, P, E, dT;
+    double ux, uy, wx, wy, s, V, P, E, dT, fx, fy;   /* f: friction stress on the tip [Pa] */
 } tf_stage;
 
 /* One implicit stage Y = Z + Hs F(Y) of an element at pressure p [Pa]: stick, or slide with
@@ -294,6 +295,8 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
         o->P = 0.0;
         o->E = E0;
         o->dT = S.c0[2];
+        o->fx = -S.gx;
+        o->fy = -S.gy;
         return;
     }
     double V_hi = S.G / (S.Ax < S.Ay ? S.Ax : S.Ay);
@@ -384,6 +387,8 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
     o->P = P;
     o->E = S.E;
     o->dT = S.dT;
+    o->fx = S.Ax * o->wx - S.gx;
+    o->fy = S.Ay * o->wy - S.gy;
 }
 
 static double pressure(const tf_ctx *c, double x) {
@@ -394,7 +399,7 @@ static double pressure(const tf_ctx *c, double x) {
 /* What an element's integration over one outer step leaves besides its state. */
 typedef struct {
     double energy;    /* friction work per unit area [J/m^2] */
-    double V, P, E, dT, p;
+    double V, P, E, dT, p, fx, fy;
     double steps;
 } tf_eres;
 
@@ -413,11 +418,27 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
     o2.P = 0.0;
     o2.E = c->t->inv_s0 > 0.0 ? exp(-s * c->t->inv_s0) : 1.0;
     o2.dT = 0.0;
+    o2.fx = 0.0;
+    o2.fy = 0.0;
     double p2 = pressure(c, x_end);
     while (h_e - t > 1e-12 * h_e) {
         double rest = h_e - t;
         int cut = Hn >= rest;
         double H = cut ? rest : Hn;
+        if (H <= H_MIN) {
+            /* event step: at the smallest step a stick-slip event (a snap, instantaneous for
+             * a massless tip) is taken with one implicit Euler stage, which lands on the new
+             * equilibrium; the SDIRK extrapolation would overshoot it */
+            double pe = pressure(c, x_end + c->Vr * (rest - H));
+            stage(c, H, pe, ux, uy, wx, wy, s, hypot(wx, wy), &o2);
+            ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
+            energy += H * (o2.P * o2.V);
+            steps += 1.0;
+            p2 = pe;
+            t += H;
+            Hn = cut ? Hn : 4.0 * H;
+            continue;
+        }
         double Hs = GAMMA * H;
         double p1 = pressure(c, x_end + c->Vr * (rest - Hs));
         stage(c, Hs, p1, ux, uy, wx, wy, s, hypot(wx, wy), &o1);
@@ -438,7 +459,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
         double fac = err > 0.0 ? 0.9 / sqrt(err) : 4.0;
         if (fac > 4.0) fac = 4.0;
         if (fac < 0.2) fac = 0.2;
-        if (err <= 1.0 || H <= H_MIN) {
+        if (err <= 1.0) {
             ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
             energy += H * ((1.0 - GAMMA) * o1.P * o1.V + GAMMA * o2.P * o2.V);
             steps += 1.0;
@@ -458,6 +479,8 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
     r->E = o2.E;
     r->dT = o2.dT;
     r->p = p2;
+    r->fx = o2.fx;
+    r->fy = o2.fy;
     r->steps = steps;
 }
 
@@ -537,11 +560,9 @@ int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const d
             integrate(&c, e, x, (x_prev - x) / vr, &r);
             x_prev = x;
             steps += r.steps;
-            double tx = c.kx * e[0] + c.dx * (e[2] - Vsx);
-            double ty = c.ky * e[1] + c.dy * (e[3] - Vsy);
-            Fx += tx;
-            Fy += ty;
-            Mz += x * ty;
+            Fx += r.fx;
+            Fy += r.fy;
+            Mz += x * r.fy;
             if (r.V > CREEP_SPEED) {
                 nsl += 1.0;
                 fsl += r.P;
@@ -768,7 +789,7 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     c.Vbx = Vbx;
     c.Vby = Vby;
     double Fx = 0.0, Fy = 0.0, Mz = 0.0, heat = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
-    double n_in = 0.0;
+    double n_in = 0.0, Tx = 0.0, Ty = 0.0;
     for (int i = 0; i < L; i++) {
         double x = x_top - i * dx;
         double *e = tire->el + (size_t)i * TF_ELEM;
@@ -789,11 +810,11 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
         tf_eres r;
         integrate(&c, e, x, h_e, &r);
         tire->work += r.steps;
-        double tx = c.kx * e[0] + c.dx * (e[2] - Vbx);
-        double ty = c.ky * e[1] + c.dy * (e[3] - Vby);
-        Fx += tx;
-        Fy += ty;
-        Mz += x * ty;
+        Tx += c.kx * e[0] + c.dx * (e[2] - Vbx);
+        Ty += c.ky * e[1] + c.dy * (e[3] - Vby);
+        Fx += r.fx;
+        Fy += r.fy;
+        Mz += x * r.fy;
         heat += r.energy;
         n_in += 1.0;
         if (r.V > CREEP_SPEED) {
@@ -806,8 +827,10 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     }
     tire->Vb[0] = Vbx;
     tire->Vb[1] = Vby;
-    tire->F[0] = Fx * area;
-    tire->F[1] = Fy * area;
+    tire->F[0] = Tx * area;
+    tire->F[1] = Ty * area;
+    tire->Fr[0] = Fx * area;
+    tire->Fr[1] = Fy * area;
     if (p->thermal) {
         double Q = heat * area;
         tire->T_tread = (tire->T_tread + (p->heat_fraction * Q + h * p->conductance * T_surface) /
@@ -848,10 +871,10 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         if (fin[0] == 0.0) {
             o[0] = 0.0; o[1] = 0.0; o[2] = 0.0; o[5] = 0.0; o[6] = 0.0; o[7] = 0.0; o[8] = 0.0;
         } else {
-            o[0] = tire->F[0];
-            o[1] = tire->F[1];
+            o[0] = tire->Fr[0];
+            o[1] = tire->Fr[1];
             o[2] = fin[1];
-            o[5] = Fz > 0.0 ? hypot(tire->F[0], tire->F[1]) / Fz : 0.0;
+            o[5] = Fz > 0.0 ? hypot(tire->Fr[0], tire->Fr[1]) / Fz : 0.0;
             o[6] = fin[3];
             o[7] = fin[2];
             o[8] = fin[4];
