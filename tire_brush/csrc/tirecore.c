@@ -493,8 +493,11 @@ static void patch_size(const tf_params *p, double Fz, double *a, double *b) {
     *b = 2.0 * p->width * (p->q_rb2 * r + p->q_rb1 * cbrt(r));
 }
 
+/* The pressure amplitude p_amp is such that the element pressures at the sample positions
+ * (lattice or cell midpoints) add up to Fz exactly: full sliding then gives mu Fz. */
 static void ctx_init(tf_ctx *c, const tf_params *p, const tf_table *t, double T, double Fz,
-                     double a, double b, double mu_scale, double Vbx, double Vby, double Vr) {
+                     double a, double b, double p_amp, double mu_scale, double Vbx, double Vby,
+                     double Vr) {
     c->t = t;
     locate(t, 1, T, &c->iT, &c->fT);
     c->kx = p->k_x;
@@ -507,7 +510,7 @@ static void ctx_init(tf_ctx *c, const tf_params *p, const tf_table *t, double T,
     c->Vr = Vr;
     c->inv_void = 1.0 / (1.0 - p->void_ratio);
     c->mu_scale = mu_scale;
-    c->p_amp = 0.75 * Fz / (a * b);
+    c->p_amp = p_amp;
     c->inv_a2 = 1.0 / (a * a);
     c->tol_abs = p->tol * (0.5 * Fz / (a * b));
     c->zx = sqrt(p->k_x * p->mass) + p->d_x;
@@ -549,8 +552,13 @@ int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const d
         double sgn = Vr < 0.0 ? -1.0 : 1.0;
         double vr = fabs(Vr) > V_ROLL_MIN ? fabs(Vr) : V_ROLL_MIN;
         double dx = 2.0 * a / n_cells, area = b * dx;
+        double wsum = 0.0;
+        for (int j = 0; j < n_cells; j++) {
+            double xi = 1.0 - (2.0 * j + 1.0) / n_cells;
+            wsum += 1.0 - xi * xi;
+        }
         tf_ctx c;
-        ctx_init(&c, p, t, T, Fz, a, b, mu_scale, Vsx, Vsy, vr);
+        ctx_init(&c, p, t, T, Fz, a, b, Fz / (area * wsum), mu_scale, Vsx, Vsy, vr);
         double e[TF_ELEM] = {0.0, 0.0, Vsx, Vsy, 0.0, 0.0, 1.0};
         double Fx = 0.0, Fy = 0.0, Mz = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
         double steps = 0.0, x_prev = a;
@@ -746,6 +754,7 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     double T0 = p->thermal ? tire->T_tread : T_surface;
     double area = b * dx;
     int any = 0;
+    double wsum = 0.0;
     for (int i = 0; i < L; i++) {
         double x = x_top - i * dx;
         double *e = tire->el + (size_t)i * TF_ELEM;
@@ -753,8 +762,10 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
             memset(e, 0, sizeof(double) * TF_ELEM);
         } else {
             any = 1;
+            wsum += 1.0 - x * x / (a * a);
         }
     }
+    if (!(wsum > 0.0)) any = 0;
     if (!any) {
         if (!p->rigid) {
             tire->delta[0] *= p->dc_x / (p->kc_x * h + p->dc_x);
@@ -770,7 +781,7 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
         return;
     }
     tf_ctx c;
-    ctx_init(&c, p, tire->t, T0, Fz, a, b, mu_scale, Vsx, Vsy, V_r);
+    ctx_init(&c, p, tire->t, T0, Fz, a, b, Fz / (area * wsum), mu_scale, Vsx, Vsy, V_r);
     double Vbx = Vsx, Vby = Vsy;
     if (!p->rigid) {
         double Jx, Jy;
