@@ -200,6 +200,7 @@ def _run_mu(args: argparse.Namespace) -> int:
             ("dT_flash",) if b == "hot" else ())
     rows = [{k: float(c[i]) for k, c in zip(keys, columns, strict=True)}
             for i in range(len(v))]
+    freq = model.compound.modulus.describe().get("frequency_column")
     if args.json:
         out = {"compound": model.compound.name, "surface": model.surface.name,
                "T_C": T_C, "p_Pa": p, "q1_per_m": model.q1, "branch": args.branch,
@@ -209,10 +210,14 @@ def _run_mu(args: argparse.Namespace) -> int:
                "points": rows}
         if args.branch != "cold":
             out["hot_residual_K"] = model.last_hot_residual
+        if freq:
+            out["master_curve_frequency_column"] = freq
         dump_json(out)
     else:
         print(f"# compound {model.compound.name}, surface {model.surface.name}, T = {T_C:g} C, "
               f"p = {p:g} Pa, q1 = {model.q1:.4g} 1/m")
+        if freq:
+            print(f"# master curve frequency column: {freq}")
         print_table(rows, keys)
     return 0
 

@@ -119,6 +119,13 @@ def test_frequency_unit_is_applied_and_reported(tmp_path: Path, unit: str, facto
     assert ("used as is" in how) == (unit == "rad/s") and unit in how
 
 
+def test_cli_reports_the_frequency_unit_used(tmp_path: Path, capsys) -> None:
+    comp = tabulated_compound(tmp_path, MASTER.replace("[rad/s]", "[Hz]"))
+    assert main(["mu", "--compound", str(comp), "--surface", "asphalt", "--v", "0.01",
+                 "--T", "20", "--p", "3e5", "--branch", "cold"]) == 0
+    assert "cyclic frequency f [Hz], converted to omega = 2 pi f" in capsys.readouterr().out
+
+
 # -- modulus and shift -----------------------------------------------------------------------------
 def test_single_relaxation_elastic_limit_loads_and_gives_eq10(tmp_path: Path) -> None:
     """E0 == E1: E real (no loss); the engine then gives mu_visc = 0 and eq. (10)."""
