@@ -866,6 +866,17 @@ class FrictionGrid:
         v, T, p = v.reshape(-1), T.reshape(-1), p.reshape(-1)
         if v.size == 0:
             return {nm: np.empty(shape) for nm in names}
+        out = np.empty((len(names), v.size))
+        for s in range(0, v.size, self._CHUNK):  # cache-sized pieces, as interpolate
+            e = s + self._CHUNK
+            out[:, s:e] = self._reduced_chunk(Q, len(names), degree, v[s:e], T[s:e], p[s:e])
+        if len(shape) == 1:
+            return dict(zip(names, out, strict=False))
+        return {nm: out[k].reshape(shape) for k, nm in enumerate(names)}
+
+    def _reduced_chunk(self, Q: np.ndarray, n_names: int, degree: int, v: np.ndarray,
+                       T: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """:meth:`_interpolate_reduced` on 1-D inputs; values, shape ``(n_names, n)``."""
         lv = np.log10(np.maximum(np.abs(v), self._vfloor))
         with np.errstate(divide="ignore", invalid="ignore"):
             lp = np.log10(p)
@@ -885,7 +896,7 @@ class FrictionGrid:
         ip = np.trunc(t[2])
         fp = t[2] - ip
         nmax_v = self._nmax[0, 0]
-        out = np.zeros((len(names), v.size))
+        out = np.zeros((n_names, v.size))
         outside = np.zeros(v.size, dtype=bool)
         for upper, w in ((0.0, 1.0 - fT), (1.0, fT)):
             tv = self._indices(0, lv + (la_q - la_nodes[j + int(upper)]))
@@ -895,7 +906,7 @@ class FrictionGrid:
             # the cell (iv, jT, ip), read at T fraction 0 (node jT) or 1 (node jT + 1)
             cell = (iv * self._strides_f[0] + jT * self._strides_f[1]
                     + ip * self._strides_f[2]).astype(np.intp)
-            out += w * self._evaluate_cells(Q, len(names), degree, cell, tv - iv,
+            out += w * self._evaluate_cells(Q, n_names, degree, cell, tv - iv,
                                             np.full_like(tv, upper), fp)
         if outside.any():
             # the shifted speed left the v axis at a T node: such points (next to v_min or
@@ -904,11 +915,9 @@ class FrictionGrid:
             iv = np.trunc(t[0, k])
             cell = (iv * self._strides_f[0] + jT[k] * self._strides_f[1]
                     + ip[k] * self._strides_f[2]).astype(np.intp)
-            out[:, k] = self._evaluate_cells(Q, len(names), degree, cell, t[0, k] - iv,
+            out[:, k] = self._evaluate_cells(Q, n_names, degree, cell, t[0, k] - iv,
                                              fT[k], fp[k])
-        if len(shape) == 1:
-            return dict(zip(names, out, strict=False))
-        return {nm: out[k].reshape(shape) for k, nm in enumerate(names)}
+        return out
 
     @staticmethod
     def _evaluate_cells(Q: np.ndarray, n_names: int, degree: int, cell: np.ndarray,
