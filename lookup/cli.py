@@ -231,7 +231,8 @@ def register_plot(sub: argparse._SubParsersAction) -> None:
     f.add_argument("--compound", required=True, help="compound TOML file or shipped name")
     f.add_argument("--surface", required=True, help="surface TOML file or shipped name")
     f.add_argument("--T", default="0,20,50,80", help="temperatures [Celsius], comma separated")
-    f.add_argument("--p", default="3e5", help="nominal contact pressure [Pa]")
+    f.add_argument("--p", default="3e5",
+                   help="nominal contact pressure: a bare number is Pa, or '0.3 MPa'")
     f.add_argument("-o", "--output", required=True, help="PNG file")
     c = kinds.add_parser("compound", help="E', E'' and tan delta of a compound")
     c.add_argument("compound", help="compound TOML file or shipped name")
@@ -250,7 +251,7 @@ def _run_plot(args: argparse.Namespace) -> int:
     from .surface import load_surface
 
     if args.what == "friction":
-        p = parse_float(args.p, "--p")
+        p = parse_quantity_option(args.p, "--p", "pressure", "Pa")
         if p <= 0:
             raise InputError("nominal pressure must be > 0 Pa", source="--p", value=args.p)
         model = PerssonFriction(load_compound(args.compound), load_surface(args.surface))

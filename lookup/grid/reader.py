@@ -18,8 +18,10 @@ of the hot self-consistent solve. ``meta`` carries provenance (compound, surface
 settings), the macroasperity contact diameter ``D_m`` and the blending length ``s0_m`` of eq.
 (28) in ``physics-notes.md``, and the content hash.
 
-Interpolation is multilinear in (log10 v, T, log10 p). Both log axes use base 10 (the pressure
-axis is stored as ``log10_p``; :attr:`FrictionGrid.log_p` is an alias).
+Interpolation is multilinear in (log10 v, T, log10 p); optionally monotone cubic along log10 v
+(``v_interp="pchip"``) and, across T, linear at fixed reduced speed log10(v a_T(T))
+(``T_interp="reduced_speed"``, :meth:`FrictionGrid.interpolate`). Both log axes use base 10
+(the pressure axis is stored as ``log10_p``; :attr:`FrictionGrid.log_p` is an alias).
 
 Out-of-range policy (explicit, never NaN)
 -----------------------------------------
