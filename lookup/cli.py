@@ -18,6 +18,8 @@ import sys
 from collections.abc import Sequence
 from importlib.metadata import entry_points
 
+import numpy as np
+
 from .errors import InputError, TirefricError
 
 
@@ -41,6 +43,92 @@ def parse_float(text: str, option: str) -> float:
     if len(vals) != 1:
         raise InputError("expected one number", source=option, value=text)
     return vals[0]
+
+
+def parse_quantity_option(text: str, option: str, dimension: str, default_unit: str) -> float:
+    """One value for ``option``: a bare number in ``default_unit`` or ``"<number> <unit>"``
+    in any unit :mod:`lookup.config` knows (e.g. ``--p "0.3 MPa"``); returns SI."""
+    from .config import UNITS, parse_quantity
+
+    t = text.strip()
+    try:
+        x = float(t)
+    except ValueError:
+        def err(msg: str) -> InputError:
+            return InputError(msg, source=option, value=text)
+
+        x = parse_quantity(t, dimension, err)
+        if not math.isfinite(x):
+            raise InputError("must be a finite number", source=option, value=text) from None
+        return x
+    if not math.isfinite(x):
+        raise InputError("must be a finite number", source=option, value=text)
+    factor, offset = UNITS[dimension][default_unit]
+    return x * factor + offset
+
+
+#: A bare --T above this [Celsius] is almost surely a temperature in kelvin.
+T_KELVIN_SUSPECT_C = 150.0
+
+
+def parse_temperature_option(text: str, option: str = "--T") -> float:
+    """Background temperature [K] from ``--T``: a bare number is Celsius (as documented),
+    ``"293.15 K"`` or ``"20 degC"`` convert. A bare number above 150 (C) is refused as a
+    probable kelvin value unless written with its unit (``"200 degC"``): tread temperatures
+    above 150 C are outside any tire use, and 293.15 read as Celsius gives a meaningless mu."""
+    T = parse_quantity_option(text, option, "temperature", "degC")
+    bare = _is_bare_number(text)
+    if bare and T - 273.15 > T_KELVIN_SUSPECT_C:
+        raise InputError(f"read as {T - 273.15:g} degC, far above any tread temperature: a "
+                         f"bare --T is in Celsius; for kelvin write '{text.strip()} K' (or "
+                         f"'{text.strip()} degC' if Celsius was meant)", source=option,
+                         value=text)
+    if not T > 0:
+        raise InputError("temperature below absolute zero", source=option, value=text)
+    return T
+
+
+def _is_bare_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def add_engine_options(p: argparse.ArgumentParser) -> None:
+    """Options for :class:`lookup.friction.EngineSettings` (resolution, gamma, area law)."""
+    g = p.add_argument_group("engine settings (lookup.friction.EngineSettings)")
+    g.add_argument("--q-per-decade", type=int, default=None,
+                   help="wavenumber nodes per decade (default 24; 96 for a converged check)")
+    g.add_argument("--n-phi", type=int, default=None,
+                   help="Gauss-Legendre nodes of the angular integrals (default 16)")
+    g.add_argument("--modulus-per-decade", type=int, default=None,
+                   help="master-curve samples per decade (default 40)")
+    g.add_argument("--gamma", default=None, help="gamma of review eq. (20) (default 0.5)")
+    g.add_argument("--contact-area", default=None, choices=("persson", "rescaled_kappa"),
+                   help="contact-area law: persson (eq. 18, default) or rescaled_kappa "
+                        "(small-contact slope --area-kappa, review after eq. 11)")
+    g.add_argument("--area-kappa", default=None,
+                   help="slope kappa for --contact-area rescaled_kappa (default 2)")
+
+
+def engine_settings(args: argparse.Namespace):
+    """:class:`~lookup.friction.EngineSettings` from the options of :func:`add_engine_options`."""
+    from .friction import EngineSettings
+
+    kw: dict = {}
+    for name in ("q_per_decade", "n_phi", "modulus_per_decade", "contact_area"):
+        if getattr(args, name, None) is not None:
+            kw[name] = getattr(args, name)
+    for name in ("gamma", "area_kappa"):
+        if getattr(args, name, None) is not None:
+            kw[name] = parse_float(getattr(args, name), "--" + name.replace("_", "-"))
+    try:
+        return EngineSettings(**kw)
+    except InputError as exc:
+        opt = "--" + (exc.field or "").removeprefix("engine.").replace("_", "-")
+        raise InputError(exc.message, source=opt, value=exc.value) from None
 
 
 def print_table(rows: list[dict], keys: Sequence[str]) -> None:
@@ -71,9 +159,17 @@ def register_mu(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--compound", required=True, help="compound TOML file or shipped name")
     p.add_argument("--surface", required=True, help="surface TOML file or shipped name")
     p.add_argument("--v", required=True, help="slip speed(s) [m/s], comma separated")
-    p.add_argument("--T", required=True, help="background temperature [Celsius]")
-    p.add_argument("--p", required=True, help="nominal contact pressure [Pa]")
+    p.add_argument("--T", required=True,
+                   help="background temperature: a bare number is Celsius, or with a unit "
+                        "('293.15 K', '20 degC')")
+    p.add_argument("--p", required=True,
+                   help="nominal contact pressure: a bare number is Pa, or with a unit "
+                        "('0.3 MPa', '300 kPa')")
+    p.add_argument("--branch", choices=("both", "cold", "hot"), default="both",
+                   help="which branch to solve (default both; 'cold' needs no [thermal] "
+                        "or [macroasperity] data and skips the flash-temperature solve)")
     p.add_argument("--json", action="store_true", help="print JSON with a list 'points'")
+    add_engine_options(p)
     p.set_defaults(func=_run_mu)
 
 
@@ -83,26 +179,46 @@ def _run_mu(args: argparse.Namespace) -> int:
     from .surface import load_surface
 
     v = parse_float_list(args.v, "--v")
-    T_C = parse_float(args.T, "--T")
-    p = parse_float(args.p, "--p")
+    T = parse_temperature_option(args.T, "--T")
+    T_C = T - 273.15
+    p = parse_quantity_option(args.p, "--p", "pressure", "Pa")
     if any(x <= 0 for x in v):
         raise InputError("slip speeds must be > 0 m/s", source="--v", value=args.v)
     if p <= 0:
         raise InputError("nominal pressure must be > 0 Pa", source="--p", value=args.p)
-    if T_C <= -273.15:
-        raise InputError("temperature below absolute zero", source="--T", value=args.T)
-    model = PerssonFriction(load_compound(args.compound), load_surface(args.surface))
-    columns = model.mu_table(v, T_C + 273.15, p)
-    rows = [{k: float(c[i]) for k, c in zip(MU_KEYS, columns, strict=True)}
+    model = PerssonFriction(load_compound(args.compound), load_surface(args.surface),
+                            engine_settings(args))
+    if args.branch == "both":
+        columns = model.mu_table(v, T, p)
+        keys = MU_KEYS
+    else:
+        r = (model.cold if args.branch == "cold" else model.hot)(np.asarray(v, float), T, p)
+        b = args.branch
+        columns = (np.asarray(v, float), r.mu, r.mu_visc, r.mu_cont, r.area) + (
+            (r.dT_flash,) if b == "hot" else ())
+        keys = ("v", f"mu_{b}", f"mu_visc_{b}", f"mu_cont_{b}", f"area_{b}") + (
+            ("dT_flash",) if b == "hot" else ())
+    rows = [{k: float(c[i]) for k, c in zip(keys, columns, strict=True)}
             for i in range(len(v))]
+    freq = model.compound.modulus.describe().get("frequency_column")
     if args.json:
-        dump_json({"compound": model.compound.name, "surface": model.surface.name,
-                   "T_C": T_C, "p_Pa": p, "q1_per_m": model.q1, "points": rows,
-                   "hot_residual_K": model.last_hot_residual})
+        out = {"compound": model.compound.name, "surface": model.surface.name,
+               "T_C": T_C, "p_Pa": p, "q1_per_m": model.q1, "branch": args.branch,
+               "settings": {k: getattr(model.settings, k) for k in
+                            ("q_per_decade", "n_phi", "modulus_per_decade", "gamma",
+                             "contact_area", "area_kappa")},
+               "points": rows}
+        if args.branch != "cold":
+            out["hot_residual_K"] = model.last_hot_residual
+        if freq:
+            out["master_curve_frequency_column"] = freq
+        dump_json(out)
     else:
         print(f"# compound {model.compound.name}, surface {model.surface.name}, T = {T_C:g} C, "
               f"p = {p:g} Pa, q1 = {model.q1:.4g} 1/m")
-        print_table(rows, MU_KEYS)
+        if freq:
+            print(f"# master curve frequency column: {freq}")
+        print_table(rows, keys)
     return 0
 
 
@@ -115,7 +231,8 @@ def register_plot(sub: argparse._SubParsersAction) -> None:
     f.add_argument("--compound", required=True, help="compound TOML file or shipped name")
     f.add_argument("--surface", required=True, help="surface TOML file or shipped name")
     f.add_argument("--T", default="0,20,50,80", help="temperatures [Celsius], comma separated")
-    f.add_argument("--p", default="3e5", help="nominal contact pressure [Pa]")
+    f.add_argument("--p", default="3e5",
+                   help="nominal contact pressure: a bare number is Pa, or '0.3 MPa'")
     f.add_argument("-o", "--output", required=True, help="PNG file")
     c = kinds.add_parser("compound", help="E', E'' and tan delta of a compound")
     c.add_argument("compound", help="compound TOML file or shipped name")
@@ -134,7 +251,7 @@ def _run_plot(args: argparse.Namespace) -> int:
     from .surface import load_surface
 
     if args.what == "friction":
-        p = parse_float(args.p, "--p")
+        p = parse_quantity_option(args.p, "--p", "pressure", "Pa")
         if p <= 0:
             raise InputError("nominal pressure must be > 0 Pa", source="--p", value=args.p)
         model = PerssonFriction(load_compound(args.compound), load_surface(args.surface))

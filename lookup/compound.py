@@ -13,13 +13,14 @@ File layout (SI unless written as ``"<number> <unit>"``)::
     model = "prony"                # E_inf [Pa], E_k [Pa], tau_k [s]; or, with
                                    # spectrum = "lognormal": E_inf, E_glassy, tau_center,
                                    # width_decades, arms_per_decade (Prony.lognormal)
-    # or "single_relaxation" (E0, E1, tau: review eq. 4)
-    # or "tabulated" (file = CSV with "omega [rad/s]", "E_storage [Pa]", "E_loss [Pa]";
-    #                 outside = "maxwell" | "error", see lookup.modulus)
+    # or "single_relaxation" (E0, E1 >= E0, tau: review eq. 4; E1 = E0 is the elastic limit)
+    # or "tabulated" (file = CSV with "omega [rad/s]" or "omega [Hz]" (cyclic frequency,
+    #                 converted with 2 pi; "1/s" is refused as ambiguous), "E_storage [Pa]",
+    #                 "E_loss [Pa]"; outside = "maxwell" | "error", see lookup.modulus)
 
     [shift]                        # a_T(T), its own reference temperature
-    model = "wlf"                  # C1, C2 [K], T_ref; or "tabulated" (file: "T [degC]",
-                                   # "log10_aT [1]")
+    model = "wlf"                  # C1, C2 [K], T_ref; or "tabulated" (file: "T [degC]" and
+                                   # "log10_aT [1]" or the plain factor "aT [1]")
 
     [softening]                    # review eq. (6), applied at the stated strain
     model = "kraus"                # eps_c, m, r_inf, h; or "tabulated" (file); or "none"
@@ -32,7 +33,7 @@ File layout (SI unless written as ``"<number> <unit>"``)::
     #    [J or "0.075 eV"], nu1_over_nu0, T_ref, tau0_shift = "bulk"|"arrhenius"|"none",
     #    mean_force = "A5" (eq. A21, default) | "A4"; or "none"
 
-    [thermal]
+    [thermal]                      # optional: only the hot branch needs it
     rho = 1500.0                   # kg/m^3
     c_v = 1500.0                   # J/(kg K)
     kappa = 0.3                    # W/(m K)
@@ -46,7 +47,7 @@ from pathlib import Path
 import numpy as np
 
 from .adhesion import GaussianShearLaw, NoAdhesion, ShearLaw
-from .config import Table, read_csv_table
+from .config import Table, csv_column_names, read_csv_table
 from .errors import InputError
 from .modulus import Modulus, ModulusTable, Prony, SingleRelaxation, TabulatedMasterCurve
 from .paths import resolve_model_file
@@ -104,7 +105,9 @@ class Compound:
         Frictional shear stress sigma_f(v, T) (review eq. 21).
     nu : float
         Poisson ratio.
-    thermal : RubberThermal
+    thermal : RubberThermal or None
+        None when the file has no ``[thermal]`` table (a cold-branch-only compound); the hot
+        branch then refuses to run (:meth:`require_thermal`).
     """
 
     name: str
@@ -115,10 +118,19 @@ class Compound:
     strain: float
     adhesion: ShearLaw
     nu: float
-    thermal: RubberThermal
+    thermal: RubberThermal | None
     description: str = ""
     provenance: str = ""
     source: str = ""
+
+    def require_thermal(self) -> RubberThermal:
+        """The thermal data, or an :class:`InputError` naming the file and ``[thermal]``."""
+        if self.thermal is None:
+            raise InputError("the hot branch (flash temperature) needs the rubber's thermal "
+                             "data: add a [thermal] table with rho, c_v, kappa, or compute "
+                             "the cold branch only", source=self.source or None,
+                             field="thermal")
+        return self.thermal
 
     def softening_factors(self) -> tuple[float, float]:
         """(eta_R, eta_I) at the stated strain."""
@@ -142,8 +154,9 @@ class Compound:
             "modulus": self.modulus.describe(), "shift": self.shift.describe(),
             "softening": self.softening.describe(), "strain": self.strain,
             "adhesion": self.adhesion.describe(), "nu": self.nu,
-            "thermal": {"rho_kg_m3": self.thermal.rho, "c_v_J_kgK": self.thermal.c_v,
-                        "kappa_W_mK": self.thermal.kappa},
+            "thermal": None if self.thermal is None else {
+                "rho_kg_m3": self.thermal.rho, "c_v_J_kgK": self.thermal.c_v,
+                "kappa_W_mK": self.thermal.kappa},
         }
 
 
@@ -152,8 +165,9 @@ def _load_modulus(t: Table) -> Modulus:
     if model == "single_relaxation":
         E0 = t.quantity("E0", "pressure", positive=True)
         E1 = t.quantity("E1", "pressure", positive=True)
-        if E1 <= E0:
-            raise t.error("E1", f"glassy modulus must exceed E0 = {E0:g} Pa", t.raw("E1"))
+        if E1 < E0:
+            raise t.error("E1", f"glassy modulus must be >= E0 = {E0:g} Pa (E1 = E0 is the "
+                          "elastic limit)", t.raw("E1"))
         return SingleRelaxation(E0, E1, t.quantity("tau", "time", positive=True))
     if model == "prony" and t.has("spectrum"):
         t.string("spectrum", choices=("lognormal",))
@@ -174,11 +188,12 @@ def _load_modulus(t: Table) -> Modulus:
             raise t.error("tau_k", f"needs as many entries as E_k ({E_k.size})", t.raw("tau_k"))
         return Prony(t.quantity("E_inf", "pressure", positive=True), E_k, tau_k)
     path = t.path("file")
+    units: dict[str, str] = {}
     cols = read_csv_table(path, {"omega": "angular_frequency", "E_storage": "pressure",
-                                 "E_loss": "pressure"})
+                                 "E_loss": "pressure"}, units)
     outside = t.string("outside", default="maxwell", choices=("maxwell", "error"))
     return TabulatedMasterCurve(cols["omega"], cols["E_storage"], cols["E_loss"], outside,
-                                source=str(path))
+                                source=str(path), omega_unit=units["omega"])
 
 
 def _load_shift(t: Table) -> ShiftFactor:
@@ -188,7 +203,21 @@ def _load_shift(t: Table) -> ShiftFactor:
                    t.quantity("C2", "temperature_difference", positive=True),
                    t.quantity("T_ref", "temperature", positive=True))
     path = t.path("file")
-    cols = read_csv_table(path, {"T": "temperature", "log10_aT": "dimensionless"})
+    present = csv_column_names(path)
+    if ("aT" in present) == ("log10_aT" in present):
+        raise InputError("the a_T table needs exactly one of the columns 'log10_aT [1]' "
+                         f"(decimal logarithm) and 'aT [1]' (plain factor); header: {present}",
+                         source=path, field="log10_aT" if "aT" in present else "aT")
+    if "aT" in present:
+        cols = read_csv_table(path, {"T": "temperature", "aT": "dimensionless"})
+        if (cols["aT"] <= 0).any():
+            i = int(np.flatnonzero(cols["aT"] <= 0)[0])
+            raise InputError(f"entry {i}: a plain shift factor must be > 0 (a log10 value? "
+                             "then name the column 'log10_aT')", source=path, field="aT",
+                             value=float(cols["aT"][i]))
+        cols["log10_aT"] = np.log10(cols["aT"])
+    else:
+        cols = read_csv_table(path, {"T": "temperature", "log10_aT": "dimensionless"})
     if not (np.diff(cols["T"]) > 0).all():
         raise InputError("temperature column must be strictly increasing", source=path,
                          field="T")
@@ -271,11 +300,13 @@ def load_compound(name_or_path: str | Path) -> Compound:
     adhesion = _load_adhesion(at, shift)
     if at is not None:
         at.check_unknown()
-    th = t.table("thermal")
-    thermal = RubberThermal(th.quantity("rho", "density", positive=True),
-                            th.quantity("c_v", "heat_capacity", positive=True),
-                            th.quantity("kappa", "conductivity", positive=True))
-    th.check_unknown()
+    th = t.table("thermal", required=False)
+    thermal = None
+    if th is not None:
+        thermal = RubberThermal(th.quantity("rho", "density", positive=True),
+                                th.quantity("c_v", "heat_capacity", positive=True),
+                                th.quantity("kappa", "conductivity", positive=True))
+        th.check_unknown()
     t.check_unknown()
     return Compound(name, modulus, T_ref, shift, softening, strain, adhesion, nu, thermal,
                     description, provenance, str(path))

@@ -28,7 +28,8 @@ UNITS: dict[str, dict[str, tuple[float, float]]] = {
         "nm": (1e-9, 0.0),
     },
     "wavenumber": {"1/m": (1.0, 0.0), "1/mm": (1e3, 0.0), "1/um": (1e6, 0.0)},
-    "angular_frequency": {"rad/s": (1.0, 0.0), "1/s": (1.0, 0.0), "Hz": (2.0 * math.pi, 0.0)},
+    # "1/s" is refused as ambiguous (rad/s or cycles/s?): see AMBIGUOUS_UNITS
+    "angular_frequency": {"rad/s": (1.0, 0.0), "Hz": (2.0 * math.pi, 0.0)},
     "time": {"s": (1.0, 0.0), "ms": (1e-3, 0.0), "us": (1e-6, 0.0)},
     "temperature": {"K": (1.0, 0.0), "degC": (1.0, 273.15), "C": (1.0, 273.15)},
     "temperature_difference": {"K": (1.0, 0.0), "degC": (1.0, 0.0), "C": (1.0, 0.0)},
@@ -37,6 +38,7 @@ UNITS: dict[str, dict[str, tuple[float, float]]] = {
         "km/h": (1.0 / 3.6, 0.0),
     },
     "psd": {"m^4": (1.0, 0.0)},
+    "psd_1d": {"m^3": (1.0, 0.0)},
     "conductivity": {"W/(m K)": (1.0, 0.0), "W/m/K": (1.0, 0.0)},
     "heat_capacity": {"J/(kg K)": (1.0, 0.0), "J/kg/K": (1.0, 0.0)},
     "density": {"kg/m^3": (1.0, 0.0), "g/cm^3": (1e3, 0.0)},
@@ -50,6 +52,20 @@ UNITS: dict[str, dict[str, tuple[float, float]]] = {
     "angle": {"rad": (1.0, 0.0), "deg": (math.pi / 180.0, 0.0)},
     "dimensionless": {"1": (1.0, 0.0), "": (1.0, 0.0)},
 }
+
+
+#: Units refused for a dimension because they are ambiguous, with the explanation.
+AMBIGUOUS_UNITS: dict[str, dict[str, str]] = {
+    "angular_frequency": {
+        "1/s": "ambiguous frequency unit '1/s': write 'rad/s' for an angular frequency "
+               "omega or 'Hz' for a cyclic frequency f (omega = 2 pi f)",
+        "s^-1": "ambiguous frequency unit 's^-1': write 'rad/s' for an angular frequency "
+                "omega or 'Hz' for a cyclic frequency f (omega = 2 pi f)",
+    },
+}
+
+#: Delimiters a CSV table may use (detected from its header line), with their names.
+CSV_DELIMITERS: dict[str, str] = {",": "comma", "\t": "tab", ";": "semicolon"}
 
 
 def to_si(value: float, unit: str, dimension: str) -> float:
@@ -204,6 +220,8 @@ def parse_quantity(value: Any, dimension: str, err) -> float:
             raise err("expected a number or '<number> <unit>'") from None
         unit = parts[1].strip() if len(parts) > 1 else ""
         known = UNITS.get(dimension, {})
+        if unit in AMBIGUOUS_UNITS.get(dimension, {}):
+            raise err(AMBIGUOUS_UNITS[dimension][unit])
         if unit not in known:
             raise err(f"unknown unit '{unit}' for a {dimension.replace('_', ' ')} "
                       f"(known: {', '.join(u for u in known if u)})")
@@ -241,30 +259,77 @@ def validate_array(a: np.ndarray, err, *, positive: bool = False, increasing: bo
                   f"{a[i]!r})")
 
 
-def read_csv_table(path: Path, columns: dict[str, str]) -> dict[str, np.ndarray]:
+def _csv_lines(path: Path) -> list[tuple[int, str]]:
+    """Data and header lines of a CSV file as (line number, text), comments dropped.
+
+    Comment lines (``#`` first) may be in any encoding (provenance notes are often Latin-1 or
+    Windows-1252); they are never decoded strictly. The other lines must be UTF-8 (ASCII is
+    UTF-8); a line that is not is an :class:`InputError` naming the file and the line.
+    """
+    try:
+        raw = Path(path).read_bytes()
+    except FileNotFoundError as exc:
+        raise InputError("file not found", source=path) from exc
+    except IsADirectoryError as exc:
+        raise InputError("is a directory, not a CSV file", source=path) from exc
+    if raw.startswith(b"\xef\xbb\xbf"):  # UTF-8 byte-order mark (Excel)
+        raw = raw[3:]
+    out = []
+    for n, line in enumerate(raw.splitlines(), start=1):
+        if line.lstrip().startswith(b"#") or not line.strip():
+            continue
+        try:
+            out.append((n, line.decode("utf-8")))
+        except UnicodeDecodeError as exc:
+            bad = line[max(exc.start - 10, 0):exc.end + 10]
+            raise InputError(f"line {n} is not UTF-8 text (byte {line[exc.start]:#04x} near "
+                             f"{bad!r}); save the file as UTF-8, or mark the line as a "
+                             "comment with '#'", source=path, field=f"line {n}") from None
+    return out
+
+
+def _csv_delimiter(header: str) -> str:
+    """The delimiter of a CSV table, from its header line: comma, tab or semicolon."""
+    counts = {d: header.count(d) for d in CSV_DELIMITERS}
+    best = max(counts, key=lambda d: counts[d])
+    return best if counts[best] else ","
+
+
+def read_csv_table(path: Path, columns: dict[str, str],
+                   units_out: dict[str, str] | None = None) -> dict[str, np.ndarray]:
     """Read a CSV table whose header names columns as ``name [unit]``.
 
     Parameters
     ----------
     path
-        CSV file; lines starting with ``#`` are comments (provenance goes there).
+        CSV file; lines starting with ``#`` are comments (provenance goes there; they may be
+        in any encoding). The delimiter is a comma, a tab or a semicolon, whichever the
+        header line uses most (:data:`CSV_DELIMITERS`); numbers use a decimal point.
     columns
         Required column names mapped to their dimension (for the unit conversion).
+    units_out
+        If given, filled with column name -> the unit the file used (to report it).
 
     Returns
     -------
     dict
         Column name -> values in SI units.
+
+    Raises
+    ------
+    InputError
+        Missing file, a non-UTF-8 data line, a missing column, an unknown or ambiguous unit
+        or a cell that is not a number; the message names the file, the column and the value.
     """
-    try:
-        with open(path, newline="") as fh:
-            rows = [r for r in csv.reader(line for line in fh if not line.lstrip().startswith("#"))
-                    if r and any(c.strip() for c in r)]
-    except FileNotFoundError as exc:
-        raise InputError("file not found", source=path) from exc
-    if not rows:
+    lines = _csv_lines(path)
+    if not lines:
         raise InputError("empty table", source=path)
-    header = [h.strip() for h in rows[0]]
+    delim = _csv_delimiter(lines[0][1])
+    dname = CSV_DELIMITERS[delim]
+    rows = [(n, r) for n, r in zip((n for n, _ in lines),
+                                   csv.reader((t for _, t in lines), delimiter=delim),
+                                   strict=True) if r and any(c.strip() for c in r)]
+    header = [h.strip() for h in rows[0][1]]
     names: dict[str, tuple[int, str]] = {}
     for i, h in enumerate(header):
         if "[" in h and h.endswith("]"):
@@ -275,19 +340,39 @@ def read_csv_table(path: Path, columns: dict[str, str]) -> dict[str, np.ndarray]
     out: dict[str, np.ndarray] = {}
     for col, dim in columns.items():
         if col not in names:
-            raise InputError(f"missing column (header: {header})", source=path, field=col)
+            raise InputError(f"missing column (header read with {dname} delimiter: "
+                             f"{header})", source=path, field=col)
         i, unit = names[col]
+        if unit in AMBIGUOUS_UNITS.get(dim, {}):
+            raise InputError(AMBIGUOUS_UNITS[dim][unit], source=path, field=col, value=unit)
         if unit not in UNITS[dim]:
-            raise InputError(f"unknown unit '{unit}' for a {dim.replace('_', ' ')}",
+            others = [nm for d, nm in CSV_DELIMITERS.items() if d in unit]
+            hint = (f"; the header contains a {others[0]}: is that the delimiter? (read with "
+                    f"{dname} delimiter)" if others else "")
+            raise InputError(f"unknown unit '{unit}' for a {dim.replace('_', ' ')} "
+                             f"(known: {', '.join(u for u in UNITS[dim] if u)}){hint}",
                              source=path, field=col, value=unit)
+        if units_out is not None:
+            units_out[col] = unit
         vals = []
-        for r, row in enumerate(rows[1:], start=2):
+        for r, row in rows[1:]:
             try:
                 vals.append(float(row[i]))
             except (ValueError, IndexError):
-                raise InputError(f"row {r}: not a number", source=path, field=col,
+                raise InputError(f"line {r}: not a number ({dname}-delimited, decimal point)",
+                                 source=path, field=col,
                                  value=row[i] if i < len(row) else None) from None
         arr = np.array([to_si(v, unit, dim) for v in vals])
         validate_array(arr, lambda msg, col=col: InputError(msg, source=path, field=col))
         out[col] = arr
     return out
+
+
+def csv_column_names(path: Path) -> list[str]:
+    """The column names (without their ``[unit]``) of a CSV table read by
+    :func:`read_csv_table`, e.g. to offer alternative columns."""
+    lines = _csv_lines(path)
+    if not lines:
+        raise InputError("empty table", source=path)
+    header = next(csv.reader([lines[0][1]], delimiter=_csv_delimiter(lines[0][1])))
+    return [h.split("[", 1)[0].strip() for h in header]

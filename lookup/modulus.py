@@ -54,7 +54,8 @@ class SingleRelaxation:
     E0 : float
         Rubbery (low-frequency) modulus [Pa].
     E1 : float
-        Glassy (high-frequency) modulus [Pa], ``E1 > E0``.
+        Glassy (high-frequency) modulus [Pa], ``E1 >= E0``. ``E1 == E0`` is the elastic limit
+        (E real and constant, no loss): the case of review eq. (10).
     tau : float
         Relaxation time of eq. (4) [s].
     """
@@ -64,8 +65,8 @@ class SingleRelaxation:
     tau: float
 
     def __post_init__(self) -> None:
-        if not (self.E0 > 0 and self.E1 > self.E0 and self.tau > 0):
-            raise InputError("single relaxation needs 0 < E0 < E1 and tau > 0",
+        if not (self.E0 > 0 and self.E1 >= self.E0 and self.tau > 0):
+            raise InputError("single relaxation needs 0 < E0 <= E1 and tau > 0",
                              field="modulus", value=(self.E0, self.E1, self.tau))
 
     def complex_modulus(self, omega: np.ndarray) -> np.ndarray:
@@ -178,6 +179,12 @@ class TabulatedMasterCurve:
         E' and E'' [Pa], > 0.
     outside : {"maxwell", "error"}
         Policy outside the measured band.
+    source : str
+        The file the table came from.
+    omega_unit : str
+        The frequency unit of the file's column, reported in :meth:`describe`: ``"rad/s"``
+        (angular frequency, used as is) or ``"Hz"`` (cyclic frequency f, converted to
+        omega = 2 pi f); "1/s" is refused as ambiguous when the file is read.
     """
 
     omega: np.ndarray
@@ -185,6 +192,7 @@ class TabulatedMasterCurve:
     E_loss: np.ndarray
     outside: OutsidePolicy = "maxwell"
     source: str = ""
+    omega_unit: str = "rad/s"
 
     def __post_init__(self) -> None:
         for nm in ("omega", "E_storage", "E_loss"):
@@ -224,7 +232,10 @@ class TabulatedMasterCurve:
         return 10.0**lER, 10.0**lEI
 
     def describe(self) -> dict:
+        how = ("angular frequency omega [rad/s], used as is" if self.omega_unit == "rad/s"
+               else f"cyclic frequency f [{self.omega_unit}], converted to omega = 2 pi f")
         return {"model": "tabulated", "source": self.source, "outside": self.outside,
+                "frequency_column": how,
                 "omega_rad_s": self.omega.tolist(), "E_storage_Pa": self.E_storage.tolist(),
                 "E_loss_Pa": self.E_loss.tolist()}
 

@@ -14,18 +14,23 @@ File layout (all quantities SI unless written as ``"<number> <unit>"``)::
     H = 0.9                     # Hurst exponent
     h_rms = "0.25 mm"           # or C0 = ... [m^4]
     # ... or model = "tabulated" with file = "data/x.csv" (columns "q [1/m]", "C [m^4]"),
+    # ... or model = "tabulated_1d" with file = ... (columns "q [1/m]", "C1D [m^3]": a
+    #     line-scan spectrum, turned into the isotropic 2D C(q), lookup.topography),
     # ... or model = "height_map" / "line_scan" with file = ... (lookup.topography: a height
     #     map or profile with its pixel size; a line scan is turned into the isotropic 2D C(q))
-    #     and optional bins_per_decade = 10
+    #     and optional bins_per_decade = 10.
+    # Every model but self_affine takes an optional q0 = ... [1/m]: the spectrum is cut
+    # below it (C = 0 for q < q0, the value at q0 interpolated log-log), so that the
+    # largest wavelength in the calculation is a choice, not the scan length.
 
     [cutoff]                    # rule for q1 (review sec. 5.1)
     rule = "rms_slope"          # or "fixed" with q1 = ...
     xi1 = 1.0
 
-    [macroasperity]
+    [macroasperity]             # optional: only the hot branch (and eq. 28) needs it
     D = "1 mm"                  # macroasperity contact diameter (eq. 28, flash temperature)
 
-    [thermal]                   # the road, for the heat partition at the surface
+    [thermal]                   # optional: the road, for the heat partition at the surface
     kappa = 1.0                 # W/(m K)
     rho = 2400.0                # kg/m^3
     c = 900.0                   # J/(kg K)
@@ -80,8 +85,10 @@ class Surface:
         2D isotropic roughness power spectrum C(q).
     cutoff : CutoffRule
         Rule that fixes q1.
-    D : float
+    D : float or None
         Macroasperity contact diameter [m] (review sec. 5.3: 0.1-3 mm); s0 = 0.2 D (eq. 28).
+        None when the file has no ``[macroasperity]`` table (a cold-branch-only surface):
+        the hot branch then refuses to run (:meth:`require_D`).
     thermal : RoadThermal or None
         Road thermal properties; None means the road takes no heat (insulated interface).
     description, provenance : str
@@ -91,7 +98,7 @@ class Surface:
     name: str
     psd: PowerSpectrum
     cutoff: CutoffRule
-    D: float
+    D: float | None
     thermal: RoadThermal | None
     description: str = ""
     provenance: str = ""
@@ -102,10 +109,19 @@ class Surface:
         """The cut-off wavenumber q1 [1/m] given by the rule."""
         return self.cutoff.resolve(self.psd)
 
+    def require_D(self) -> float:
+        """D [m], or an :class:`InputError` naming the file and ``[macroasperity]``."""
+        if self.D is None:
+            raise InputError("the hot branch and the cold/hot blending of eq. (28) need the "
+                             "macroasperity contact diameter: add [macroasperity] D = ..., or "
+                             "compute the cold branch only", source=self.source or None,
+                             field="macroasperity.D")
+        return self.D
+
     @property
     def s0(self) -> float:
         """Slip distance of the cold-to-hot transition in eq. (28), s0 = 0.2 D [m]."""
-        return 0.2 * self.D
+        return 0.2 * self.require_D()
 
     def describe(self) -> dict:
         """All parameters as a JSON-able dict (grid provenance)."""
@@ -120,7 +136,8 @@ class Surface:
 
 
 def _load_psd(t: Table) -> PowerSpectrum:
-    model = t.string("model", choices=("self_affine", "tabulated", "height_map", "line_scan"))
+    model = t.string("model", choices=("self_affine", "tabulated", "tabulated_1d",
+                                       "height_map", "line_scan"))
     if model == "self_affine":
         q0 = t.quantity("q0", "wavenumber", positive=True)
         q_r = t.quantity("q_r", "wavenumber", positive=True)
@@ -137,25 +154,59 @@ def _load_psd(t: Table) -> PowerSpectrum:
         t.check_unknown()
         return psd
     path = t.path("file")
-    if model == "tabulated":
-        cols = read_csv_table(path, {"q": "wavenumber", "C": "psd"})
-        t.check_unknown()
-        return TabulatedPSD(cols["q"], cols["C"], source=str(path))
-    # measured topography -> the review's 2D isotropic C(q) (lookup.topography)
+    q0 = t.quantity("q0", "wavenumber", positive=True) if t.has("q0") else None
     from .topography import psd_2d_from_1d, read_height_map, read_line_scan
 
-    bins = t.integer("bins_per_decade", 10, minimum=2)
-    if model == "height_map":
-        q, C = read_height_map(path).psd(bins_per_decade=bins)
-    else:
-        q1d, C1 = read_line_scan(path).psd(bins_per_decade=bins)
-        q, C = q1d, psd_2d_from_1d(q1d, C1)
-    keep = np.isfinite(C) & (C > 0)
-    if keep.sum() < 2:
-        raise InputError("topography gives fewer than two usable spectrum points",
-                         source=path, field="file")
+    if model == "tabulated":
+        cols = read_csv_table(path, {"q": "wavenumber", "C": "psd"})
+        q, C = cols["q"], cols["C"]
+    elif model == "tabulated_1d":
+        # a line-scan spectrum C1D(q) [m^3] -> the review's 2D isotropic C(q) [m^4] by the
+        # inverse Abel transform (Persson, Tribol. Lett. 54 (2014) 99; lookup.topography)
+        cols = read_csv_table(path, {"q": "wavenumber", "C1D": "psd_1d"})
+        q = cols["q"]
+        if (cols["C1D"] <= 0).any() or not (np.diff(q) > 0).all():
+            raise InputError("C1D must be > 0 and q strictly increasing", source=path,
+                             field="C1D")
+        C = psd_2d_from_1d(q, cols["C1D"])
+    else:  # measured topography -> the review's 2D isotropic C(q) (lookup.topography)
+        bins = t.integer("bins_per_decade", 10, minimum=2)
+        if model == "height_map":
+            q, C = read_height_map(path).psd(bins_per_decade=bins)
+        else:
+            q1d, C1 = read_line_scan(path).psd(bins_per_decade=bins)
+            q, C = q1d, psd_2d_from_1d(q1d, C1)
+    if model != "tabulated":
+        keep = np.isfinite(C) & (C > 0)
+        if keep.sum() < 2:
+            raise InputError("the spectrum has fewer than two usable points", source=path,
+                             field="file")
+        q, C = q[keep], C[keep]
+    if q0 is not None:
+        try:
+            q, C = trim_below(q, C, q0)
+        except InputError as exc:
+            raise t.error("q0", exc.message, t.raw("q0")) from None
     t.check_unknown()
-    return TabulatedPSD(q[keep], C[keep], source=str(path))
+    return TabulatedPSD(q, C, source=str(path))
+
+
+def trim_below(q: np.ndarray, C: np.ndarray, q0: float) -> tuple[np.ndarray, np.ndarray]:
+    """Cut a tabulated spectrum below ``q0``: keep q > q0 and add the point (q0, C(q0)).
+
+    C(q0) is interpolated linearly in log C vs log q, as :class:`TabulatedPSD` interpolates,
+    so the spectrum above q0 is unchanged. This is the small-wavenumber cut-off q0 of the
+    review (sec. 4, the integrals start at q0): the largest roughness wavelength 2 pi / q0 that
+    takes part, e.g. a macro-texture scale, instead of the length of the measurement.
+    """
+    q = np.asarray(q, float)
+    C = np.asarray(C, float)
+    if not q[0] <= q0 < q[-1]:
+        raise InputError(f"q0 must lie inside the spectrum's data ({q[0]:.4g} .. "
+                         f"{q[-1]:.4g} 1/m)")
+    c0 = float(np.exp(np.interp(np.log(q0), np.log(q), np.log(C))))
+    keep = q > q0 * (1 + 1e-12)
+    return np.concatenate([[q0], q[keep]]), np.concatenate([[c0], C[keep]])
 
 
 def load_surface(name_or_path: str | Path) -> Surface:
@@ -181,9 +232,11 @@ def load_surface(name_or_path: str | Path) -> Surface:
         cutoff.resolve(psd)
     except InputError as exc:
         raise InputError(exc.message, source=path, field=exc.field, value=exc.value) from None
-    m = t.table("macroasperity")
-    D = m.quantity("D", "length", positive=True, maximum=0.05)
-    m.check_unknown()
+    m = t.table("macroasperity", required=False)
+    D = None
+    if m is not None:
+        D = m.quantity("D", "length", positive=True, maximum=0.05)
+        m.check_unknown()
     th = t.table("thermal", required=False)
     thermal = None
     if th is not None:

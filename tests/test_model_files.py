@@ -127,11 +127,14 @@ def test_q1_below_q0_refused(tmp_path: Path) -> None:
 
 
 def test_missing_surface_table(tmp_path: Path) -> None:
+    """[macroasperity] is optional for a cold-only study; the hot branch names it (issue 15)."""
     p = tmp_path / "s.toml"
     p.write_text(ASPHALT.replace("[macroasperity]\nD = \"1 mm\"", ""))
+    m = PerssonFriction(load_compound("summer"), load_surface(p))
+    assert np.isfinite(m.cold(1e-2, 293.15, 3e5).mu)
     with pytest.raises(InputError, match="macroasperity") as err:
-        load_surface(p)
-    assert "missing" in str(err.value)
+        m.hot(1e-2, 293.15, 3e5)
+    assert str(p) in str(err.value) and "macroasperity.D" in str(err.value)
 
 
 # -- CLI ---

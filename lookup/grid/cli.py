@@ -13,9 +13,17 @@ from pathlib import Path
 
 import numpy as np
 
-from ..cli import MU_KEYS, dump_json, parse_float, parse_float_list, print_table
+from ..cli import (
+    MU_KEYS,
+    dump_json,
+    parse_float,
+    parse_float_list,
+    parse_quantity_option,
+    parse_temperature_option,
+    print_table,
+)
 from ..errors import InputError
-from .reader import V_INTERPOLATIONS
+from .reader import T_INTERPOLATIONS, V_INTERPOLATIONS
 
 KELVIN = 273.15
 
@@ -54,8 +62,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                                   "are clamped to the grid's axes and reported.")
     q.add_argument("grid", help="grid file or shipped grid name (e.g. default)")
     q.add_argument("--v", required=True, help="slip speed(s) [m/s], comma separated")
-    q.add_argument("--T", required=True, help="background temperature [Celsius]")
-    q.add_argument("--p", required=True, help="nominal contact pressure [Pa]")
+    q.add_argument("--T", required=True,
+                   help="background temperature: a bare number is Celsius, or '293.15 K'")
+    q.add_argument("--p", required=True,
+                   help="nominal contact pressure: a bare number is Pa, or '0.3 MPa'")
+    q.add_argument("--T-interp", choices=T_INTERPOLATIONS, default="linear",
+                   help="across T: linear at fixed v (default) or reduced_speed (linear in T at "
+                        "fixed log10(v a_T), time-temperature superposition)")
     q.add_argument("--v-interp", choices=V_INTERPOLATIONS, default="linear",
                    help="interpolation along log10 v: linear (default, as the tire model and "
                         "FMU) or pchip (monotone cubic); linear in T and log p either way")
@@ -126,8 +139,8 @@ def _run_query(args: argparse.Namespace) -> int:
     from .store import load_grid
 
     v = parse_float_list(args.v, "--v")
-    T_C = parse_float(args.T, "--T")
-    p = parse_float(args.p, "--p")
+    T_C = parse_temperature_option(args.T, "--T") - KELVIN
+    p = parse_quantity_option(args.p, "--p", "pressure", "Pa")
     if any(x < 0 for x in v):
         raise InputError("slip speeds must be >= 0 m/s", source="--v", value=args.v)
     if p <= 0:
@@ -136,7 +149,8 @@ def _run_query(args: argparse.Namespace) -> int:
         raise InputError("temperature below absolute zero", source="--T", value=args.T)
     grid = load_grid(args.grid)
     names = tuple(k for k in MU_KEYS if k != "v")
-    out = grid.interpolate(np.array(v), T_C + KELVIN, p, names=names, v_interp=args.v_interp)
+    out = grid.interpolate(np.array(v), T_C + KELVIN, p, names=names, v_interp=args.v_interp,
+                           T_interp=args.T_interp)
     rows = [{"v": vi, **{n: float(out[n][j]) for n in names}} for j, vi in enumerate(v)]
     clamped = {k: c for k, c in grid.out_of_range_detail.items() if c["below"] or c["above"]}
     if args.json:

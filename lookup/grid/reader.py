@@ -18,8 +18,10 @@ of the hot self-consistent solve. ``meta`` carries provenance (compound, surface
 settings), the macroasperity contact diameter ``D_m`` and the blending length ``s0_m`` of eq.
 (28) in ``physics-notes.md``, and the content hash.
 
-Interpolation is multilinear in (log10 v, T, log10 p). Both log axes use base 10 (the pressure
-axis is stored as ``log10_p``; :attr:`FrictionGrid.log_p` is an alias).
+Interpolation is multilinear in (log10 v, T, log10 p); optionally monotone cubic along log10 v
+(``v_interp="pchip"``) and, across T, linear at fixed reduced speed log10(v a_T(T))
+(``T_interp="reduced_speed"``, :meth:`FrictionGrid.interpolate`). Both log axes use base 10
+(the pressure axis is stored as ``log10_p``; :attr:`FrictionGrid.log_p` is an alias).
 
 Out-of-range policy (explicit, never NaN)
 -----------------------------------------
@@ -96,6 +98,65 @@ NPZ_FORMAT = "tirefric-friction-grid"
 DEFAULT_NAMES: tuple[str, ...] = ("mu_cold", "mu_hot", "dT_flash")
 #: Interpolations along log10 v offered by :meth:`FrictionGrid.interpolate`.
 V_INTERPOLATIONS: tuple[str, ...] = ("linear", "pchip")
+#: Interpolations across T offered by :meth:`FrictionGrid.interpolate`: ``"linear"`` at fixed
+#: log10 v (multilinear), or ``"reduced_speed"``: linear in T at fixed reduced speed
+#: log10(v a_T(T)) (:func:`shift_from_meta`).
+T_INTERPOLATIONS: tuple[str, ...] = ("linear", "reduced_speed")
+
+
+def shift_from_meta(meta: Mapping[str, Any], source: str = "grid"):
+    """log10 a_T(T) [T in K] of the grid's compound, from its provenance (numpy only).
+
+    Grids written by ``lookup.grid.build`` store the compound's parameters under
+    ``meta["compound"]["shift"]``; this evaluates the two bulk shift laws found there, with
+    the same formulas as :mod:`lookup.shift` (kept here so that the reader stays numpy-only):
+
+    * ``"wlf"``: review eq. (5), log10 a_T = -C1 (T - T_r)/(C2 + T - T_r), continued linearly
+      below T_r - 0.9 C2 (as :class:`lookup.shift.WLF`);
+    * ``"tabulated"``: log10 a_T linear in T between the points, end segments continued.
+
+    Only differences log10 a_T(T) - log10 a_T(T') are used, so the reference temperature
+    drops out.
+
+    Raises
+    ------
+    GridError
+        The grid carries no shift law or one this reader does not know.
+    """
+    shift = (meta.get("compound") or {}).get("shift") if isinstance(meta, Mapping) else None
+    model = shift.get("model") if isinstance(shift, Mapping) else None
+    try:
+        if model == "wlf":
+            C1, C2, Tr = float(shift["C1"]), float(shift["C2_K"]), float(shift["T_ref_K"])
+
+            def wlf(T: np.ndarray) -> np.ndarray:
+                dT = np.asarray(T, dtype=float) - Tr
+                d_min = -0.9 * C2
+                dTc = np.maximum(dT, d_min)
+                val = -C1 * dTc / (C2 + dTc)
+                slope = -C1 * C2 / (C2 + d_min) ** 2
+                return np.where(dT < d_min, val + slope * (dT - d_min), val)
+
+            return wlf
+        if model == "tabulated":
+            x = np.asarray(shift["T_K"], dtype=float)
+            y = np.asarray(shift["log10_aT"], dtype=float)
+            s0 = (y[1] - y[0]) / (x[1] - x[0])
+            s1 = (y[-1] - y[-2]) / (x[-1] - x[-2])
+
+            def table(T: np.ndarray) -> np.ndarray:
+                T = np.asarray(T, dtype=float)
+                out = np.interp(T, x, y)
+                out = np.where(T < x[0], y[0] + s0 * (T - x[0]), out)
+                return np.where(T > x[-1], y[-1] + s1 * (T - x[-1]), out)
+
+            return table
+    except (KeyError, TypeError, ValueError, IndexError) as exc:
+        raise GridError(f"{source}: the compound's shift law in the metadata is incomplete "
+                        f"({type(exc).__name__}: {exc})") from None
+    raise GridError(f"{source}: T interpolation 'reduced_speed' needs the compound's shift "
+                    f"factor in the metadata (meta['compound']['shift'] with model 'wlf' or "
+                    f"'tabulated'); found {model!r}")
 
 
 def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -618,6 +679,7 @@ class FrictionGrid:
         p: Any,
         names: Sequence[str] = DEFAULT_NAMES,
         v_interp: str = "linear",
+        T_interp: str = "linear",
     ) -> dict[str, np.ndarray]:
         """Interpolation in (log10 |v|, T, log10 p): multilinear, or monotone cubic along v.
 
@@ -637,6 +699,21 @@ class FrictionGrid:
             (piecewise cubic Hermite with Fritsch-Carlson slopes, :func:`pchip_slopes`: it
             keeps monotone runs of the nodes monotone and does not overshoot; linear in T and
             log10 p either way). Both reproduce the node values.
+        T_interp
+            Across T: ``"linear"`` (default; at fixed log10 v) or ``"reduced_speed"``: linear
+            in T at fixed reduced speed log10(v a_T(T)). With the two T nodes T_j <= T <=
+            T_j+1 around the query, each node is read (along v as ``v_interp`` says, linearly
+            in log10 p) at the speed with the query's reduced speed, log10 v + log10 a_T(T) -
+            log10 a_T(T_j), and the two values are blended linearly in T. By
+            time-temperature superposition (review sec. 2: E(omega, T) = E(omega a_T, T_ref))
+            the cold branch without frictional heating depends on v and T only through
+            v a_T(T) when the adhesive law shifts with the bulk a_T, so this removes the T part
+            of the interpolation error there; elsewhere (hot branch, an Arrhenius adhesive
+            shift) it follows the dominant viscoelastic shift. a_T comes from the grid's
+            provenance (:func:`shift_from_meta`). Where a shifted speed leaves the v axis
+            (queries within the T-shift of v_min or v_max) the point is interpolated across
+            T at fixed log10 v, as with ``"linear"``; out-of-range counting and clamping of
+            the query are the same for both.
 
         Returns
         -------
@@ -663,6 +740,8 @@ class FrictionGrid:
         pressure and counted; a negative pressure is refused.
         """
         names = names if type(names) is tuple else tuple(names)
+        if T_interp != "linear":
+            return self._interpolate_reduced(v, T, p, names, v_interp, T_interp)
         Q = self._coef_cache.get((names, v_interp))
         if Q is None:
             Q = self._coefficients(names, v_interp)
@@ -749,9 +828,116 @@ class FrictionGrid:
 
     def interpolate_one(
         self, name: str, v: Any, T: Any, p: Any, v_interp: str = "linear",
+        T_interp: str = "linear",
     ) -> np.ndarray:
-        """One variable; shorthand for ``interpolate(v, T, p, (name,), v_interp)[name]``."""
-        return self.interpolate(v, T, p, (name,), v_interp)[name]
+        """One variable; shorthand for ``interpolate(v, T, p, (name,), v_interp,
+        T_interp)[name]``."""
+        return self.interpolate(v, T, p, (name,), v_interp, T_interp)[name]
+
+    def log10_aT(self, T: Any) -> np.ndarray:
+        """log10 a_T(T) of the grid's compound (T in K), from its metadata; the law is
+        read once (:func:`shift_from_meta`)."""
+        f = self.__dict__.get("_shift_fn")
+        if f is None:
+            f = self._shift_fn = shift_from_meta(self.meta, self.source)
+        return f(T)
+
+    def _indices(self, k: int, x: np.ndarray) -> np.ndarray:
+        """Fractional node index of coordinates ``x`` on axis ``k`` (unclamped)."""
+        offset, scale = self._affine[0][k, 0], self._affine[1][k, 0]
+        t = (x - offset) * scale
+        if k in self._nonuniform:
+            t = np.interp(t, self.axes[AXES[k]], self._index_axes[k], left=-1.0,
+                          right=np.inf)
+        return t
+
+    def _interpolate_reduced(
+        self, v: Any, T: Any, p: Any, names: tuple[str, ...], v_interp: str, T_interp: str,
+    ) -> dict[str, np.ndarray]:
+        """:meth:`interpolate` with ``T_interp="reduced_speed"`` (see there)."""
+        if T_interp not in T_INTERPOLATIONS:
+            raise GridError(f"{self.source}: unknown interpolation across T {T_interp!r} "
+                            f"(known: {', '.join(T_INTERPOLATIONS)})")
+        Q = self._coef_cache.get((names, v_interp))
+        if Q is None:
+            Q = self._coefficients(names, v_interp)
+        degree = 1 if v_interp == "linear" else 3
+        v, T, p = np.broadcast_arrays(np.asarray(v, dtype=float), np.asarray(T, dtype=float),
+                                      np.asarray(p, dtype=float))
+        shape = v.shape
+        v, T, p = v.reshape(-1), T.reshape(-1), p.reshape(-1)
+        if v.size == 0:
+            return {nm: np.empty(shape) for nm in names}
+        out = np.empty((len(names), v.size))
+        for s in range(0, v.size, self._CHUNK):  # cache-sized pieces, as interpolate
+            e = s + self._CHUNK
+            out[:, s:e] = self._reduced_chunk(Q, len(names), degree, v[s:e], T[s:e], p[s:e])
+        if len(shape) == 1:
+            return dict(zip(names, out, strict=False))
+        return {nm: out[k].reshape(shape) for k, nm in enumerate(names)}
+
+    def _reduced_chunk(self, Q: np.ndarray, n_names: int, degree: int, v: np.ndarray,
+                       T: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """:meth:`_interpolate_reduced` on 1-D inputs; values, shape ``(n_names, n)``."""
+        lv = np.log10(np.maximum(np.abs(v), self._vfloor))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lp = np.log10(p)
+        t = np.stack([self._indices(0, lv), self._indices(1, T), self._indices(2, lp)])
+        if not (np.minimum(t, self._nmax - t).min() >= 0.0):
+            self._out_of_range(t, p)  # counts, refuses NaN, clamps t in place
+        nT = self.axes["T"].size
+        jT = np.minimum(np.trunc(t[1]), nT - 2)
+        fT = t[1] - jT
+        j = jT.astype(np.intp)
+        Tn = self.axes["T"]
+        Tq = Tn[j] + fT * (Tn[j + 1] - Tn[j])  # the (clamped) query temperature
+        la_nodes = self.__dict__.get("_la_nodes")
+        if la_nodes is None:
+            la_nodes = self._la_nodes = self.log10_aT(Tn)
+        la_q = self.log10_aT(Tq)
+        ip = np.trunc(t[2])
+        fp = t[2] - ip
+        nmax_v = self._nmax[0, 0]
+        out = np.zeros((n_names, v.size))
+        outside = np.zeros(v.size, dtype=bool)
+        for upper, w in ((0.0, 1.0 - fT), (1.0, fT)):
+            tv = self._indices(0, lv + (la_q - la_nodes[j + int(upper)]))
+            outside |= (tv < 0.0) | (tv > nmax_v)
+            np.clip(tv, 0.0, nmax_v, out=tv)
+            iv = np.trunc(tv)
+            # the cell (iv, jT, ip), read at T fraction 0 (node jT) or 1 (node jT + 1)
+            cell = (iv * self._strides_f[0] + jT * self._strides_f[1]
+                    + ip * self._strides_f[2]).astype(np.intp)
+            out += w * self._evaluate_cells(Q, n_names, degree, cell, tv - iv,
+                                            np.full_like(tv, upper), fp)
+        if outside.any():
+            # the shifted speed left the v axis at a T node: such points (next to v_min or
+            # v_max) are interpolated across T at fixed log10 v instead, as with "linear"
+            k = np.flatnonzero(outside)
+            iv = np.trunc(t[0, k])
+            cell = (iv * self._strides_f[0] + jT[k] * self._strides_f[1]
+                    + ip[k] * self._strides_f[2]).astype(np.intp)
+            out[:, k] = self._evaluate_cells(Q, n_names, degree, cell, t[0, k] - iv,
+                                             fT[k], fp[k])
+        return out
+
+    @staticmethod
+    def _evaluate_cells(Q: np.ndarray, n_names: int, degree: int, cell: np.ndarray,
+                        fx: np.ndarray, fy: np.ndarray, fz: np.ndarray) -> np.ndarray:
+        """The cell polynomials of :meth:`_coefficients` at fractions (fx, fy, fz)."""
+        k = degree + 1
+        c = Q.take(cell, axis=0).T.copy().reshape(4 * k, n_names, cell.size)
+        a = c[2 * k:]
+        a *= fz
+        a += c[:2 * k]
+        b = a[k:]
+        b *= fy
+        b += a[:k]
+        out = b[degree]
+        for jj in range(degree - 1, -1, -1):
+            out *= fx
+            out += b[jj]
+        return out
 
     # -- numpy-only persistence ---------------------------------------------------------------
     def save_npz(self, path: str | Path) -> Path:

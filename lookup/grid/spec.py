@@ -189,3 +189,10 @@ def _check_engine(spec: GridSpec) -> None:
     if unknown:
         raise InputError(f"unknown engine setting(s) {unknown} (known: {', '.join(sorted(known))})",
                          source=spec.source, field="engine")
+    try:
+        EngineSettings(**spec.engine)
+    except InputError as exc:  # name the spec file as well as the field and value
+        raise InputError(exc.message, source=spec.source, field=exc.field,
+                         value=exc.value) from None
+    except TypeError as exc:
+        raise InputError(f"wrong type ({exc})", source=spec.source, field="engine") from None
