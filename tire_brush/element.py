@@ -395,17 +395,18 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
     Returns
     -------
     tuple
-        ``(energy, V, P, E, dT_flash, p, steps, f_x, f_y)``: friction work per unit area
-        over the step [J/m^2], the end-of-step slip speed, friction stress, cold weight, flash
-        temperature rise, pressure, the sub-steps taken and the end-of-step friction stress
-        vector [Pa] (the road's force on the element).
+        ``(energy, V, P, E, dT_flash, p, steps, J_x, J_y, J_m)``: friction work per unit
+        area over the step [J/m^2], the end-of-step slip speed, friction stress, cold weight,
+        flash temperature rise, pressure, the sub-steps taken, and the impulse of the friction
+        (the road's force on the element) per unit area [N s/m^2] with its moment about the
+        patch centre [N s/m], by the method's own quadrature (weights ``1 - gamma, gamma``).
     """
     ux, uy, wx, wy, s = e[0], e[1], e[2], e[3], e[4]
     Hn = e[5]
     if not Hn > 0.0 or Hn > h_e:
         Hn = h_e
     t = 0.0
-    energy = steps = 0.0
+    energy = steps = Jx = Jy = Jm = 0.0
     g1 = (1.0 - GAMMA) / GAMMA
     ig = 1.0 / GAMMA
     o2 = (0.0, 0.0, 0.0, 0.0, 0.0, math.hypot(wx, wy), 0.0,
@@ -419,24 +420,30 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             # event step: at the smallest step a stick-slip event (a snap, instantaneous for a
             # massless tip) is taken with one implicit Euler stage, which lands on the new
             # equilibrium; the SDIRK extrapolation would overshoot it
-            pe = c.pressure(x_end + c.Vr * (rest - H))
+            xe = x_end + c.Vr * (rest - H)
+            pe = c.pressure(xe)
             o2 = stage(c, H, pe, ux, uy, wx, wy, s, math.hypot(wx, wy))
             ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
             energy += H * (o2[6] * o2[5])
+            Jx += H * o2[9]
+            Jy += H * o2[10]
+            Jm += H * (xe * o2[10])
             steps += 1.0
             p2 = pe
             t += H
             Hn = Hn if cut else 4.0 * H
             continue
         Hs = GAMMA * H
-        p1 = c.pressure(x_end + c.Vr * (rest - Hs))
+        x1 = x_end + c.Vr * (rest - Hs)
+        p1 = c.pressure(x1)
         o1 = stage(c, Hs, p1, ux, uy, wx, wy, s, math.hypot(wx, wy))
         Zux = ux + g1 * (o1[0] - ux)
         Zuy = uy + g1 * (o1[1] - uy)
         Zwx = wx + g1 * (o1[2] - wx)
         Zwy = wy + g1 * (o1[3] - wy)
         Zs = s + g1 * (o1[4] - s)
-        pe = c.pressure(x_end + c.Vr * (rest - H))
+        xe = x_end + c.Vr * (rest - H)
+        pe = c.pressure(xe)
         o2 = stage(c, Hs, pe, Zux, Zuy, Zwx, Zwy, Zs, o1[5])
         err = abs(o2[0] - (ux + (o1[0] - ux) * ig)) * c.kx
         ey = abs(o2[1] - (uy + (o1[1] - uy) * ig)) * c.ky
@@ -457,6 +464,9 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
         if err <= 1.0:
             ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
             energy += H * ((1.0 - GAMMA) * o1[6] * o1[5] + GAMMA * o2[6] * o2[5])
+            Jx += H * ((1.0 - GAMMA) * o1[9] + GAMMA * o2[9])
+            Jy += H * ((1.0 - GAMMA) * o1[10] + GAMMA * o2[10])
+            Jm += H * ((1.0 - GAMMA) * (x1 * o1[10]) + GAMMA * (xe * o2[10]))
             steps += 1.0
             p2 = pe
             t += H
@@ -467,7 +477,7 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             if Hn < H_MIN:
                 Hn = H_MIN
     e[0], e[1], e[2], e[3], e[4], e[5] = ux, uy, wx, wy, s, Hn
-    return energy, o2[5], o2[6], o2[7], o2[8], p2, steps, o2[9], o2[10]
+    return energy, o2[5], o2[6], o2[7], o2[8], p2, steps, Jx, Jy, Jm
 
 
 def patch_size(p, Fz: float) -> tuple[float, float]:
@@ -503,34 +513,30 @@ def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float
         return out
     sgn = -1.0 if Vr < 0.0 else 1.0
     vr = abs(Vr) if abs(Vr) > V_ROLL_MIN else V_ROLL_MIN
-    dx = 2.0 * a / n_cells
-    area = b * dx
-    wsum = 0.0
-    for j in range(n_cells):
-        xi = 1.0 - (2.0 * j + 1.0) / n_cells
-        wsum += 1.0 - xi * xi
-    c = Ctx(p, t, T, Fz, a, b, Fz / (area * wsum), mu_scale, Vsx, Vsy, vr)
+    c = Ctx(p, t, T, Fz, a, b, 0.75 * Fz / (a * b), mu_scale, Vsx, Vsy, vr)
     e = [0.0, 0.0, Vsx, Vsy, 0.0, 0.0, 1.0]
-    Fx = Fy = Mz = nsl = fsl = psl = dTm = steps = 0.0
+    Jx = Jy = Jm = nsl = fsl = psl = dTm = steps = 0.0
     x_prev = a
-    for j in range(n_cells):
-        x = a * (1.0 - (2.0 * j + 1.0) / n_cells)
-        _, V, P, E, dT, pj, st, fx, fy = integrate(c, e, x, (x_prev - x) / vr)
+    # followed to the trailing edge; the forces are the friction impulse over the transit
+    # times b V_r (the patch integral); the diagnostics are read at the cell midpoints
+    for j in range(n_cells + 1):
+        x = a * (1.0 - (2.0 * j + 1.0) / n_cells) if j < n_cells else -a
+        _, V, P, E, dT, pj, st, jx, jy, jm = integrate(c, e, x, (x_prev - x) / vr)
         x_prev = x
         steps += st
-        Fx += fx
-        Fy += fy
-        Mz += x * fy
-        if V > CREEP_SPEED:
+        Jx += jx
+        Jy += jy
+        Jm += jm
+        if j < n_cells and V > CREEP_SPEED:
             nsl += 1.0
             fsl += P
             psl += pj
             d = dT * (1.0 - E)
             if d > dTm:
                 dTm = d
-    Fx *= area
-    Fy *= area
-    out[0], out[1], out[2] = Fx, Fy, Mz * area * sgn
+    Fx = Jx * b * vr
+    Fy = Jy * b * vr
+    out[0], out[1], out[2] = Fx, Fy, Jm * b * vr * sgn
     out[3] = math.hypot(Fx, Fy) / Fz if Fz > 0.0 else 0.0
     out[4] = fsl / psl if psl > 0.0 else 0.0
     out[5] = nsl / n_cells
@@ -668,7 +674,7 @@ class RefTire:
             if p.thermal:
                 self.T_tread = (self.T_tread + h / p.heat_capacity * (p.conductance * Ts)) / (
                     1.0 + h * p.conductance / p.heat_capacity)
-            return [0.0]
+            return [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
         c = Ctx(p, self.t, T0, Fz, a, b, Fz / (area * wsum), mus, Vsx, Vsy, V_r)
         Vbx, Vby = Vsx, Vsy
         if not p.rigid:
@@ -682,7 +688,7 @@ class RefTire:
             self.delta = [self.delta[0] + h * ux, self.delta[1] + h * uy]
             Vbx, Vby = Vsx + ux, Vsy + uy
         c.Vbx, c.Vby = Vbx, Vby
-        Fx = Fy = Mz = heat = nsl = fsl = psl = dTm = n_in = Tx = Ty = 0.0
+        Jx = Jy = Jm = heat = nsl = fsl = psl = dTm = n_in = Tx = Ty = 0.0
         for i in range(L):
             x = x_top - i * dx
             e = self.el[i]
@@ -697,13 +703,13 @@ class RefTire:
                 if h_e > h:
                     h_e = h
                 e[:] = [0.0, 0.0, Vbx, Vby, 0.0, h_e, 1.0]
-            energy, V, P, E, dT, pe, st, fx, fy = integrate(c, e, x, h_e)
+            energy, V, P, E, dT, pe, st, jx, jy, jm = integrate(c, e, x, h_e)
             self.work += st
             Tx += c.kx * e[0] + c.dx * (e[2] - Vbx)
             Ty += c.ky * e[1] + c.dy * (e[3] - Vby)
-            Fx += fx
-            Fy += fy
-            Mz += x * fy
+            Jx += jx
+            Jy += jy
+            Jm += jm
             heat += energy
             n_in += 1.0
             if V > CREEP_SPEED:
@@ -715,12 +721,12 @@ class RefTire:
                     dTm = d
         self.Vb = [Vbx, Vby]
         self.F = [Tx * area, Ty * area]
-        self.Fr = [Fx * area, Fy * area]
         if p.thermal:
             Q = heat * area
             self.T_tread = (self.T_tread + (p.heat_fraction * Q + h * p.conductance * Ts)
                             / p.heat_capacity) / (1.0 + h * p.conductance / p.heat_capacity)
-        return [1.0, Mz * area, nsl / n_in, fsl / psl if psl > 0.0 else 0.0, dTm]
+        return [1.0, 0.0, nsl / n_in, fsl / psl if psl > 0.0 else 0.0, dTm, Jx * area,
+                Jy * area, Jm * area]
 
     def step(self, dt: float, vx: float, vy: float, omega: float, Fz: float, Ts: float,
              mus: float) -> list[float]:
@@ -737,8 +743,12 @@ class RefTire:
             V_r = omega * p.R_e
             a, b = patch_size(p, Fz)
             fin = [0.0]
+            Ix = Iy = Im = 0.0
             for _ in range(n_sub):
                 fin = self._advance(h, vx - V_r, vy, V_r, Fz, a, b, Ts, mus)
+                Ix += fin[5]
+                Iy += fin[6]
+                Im += fin[7]
             self.time += dt
             ref = abs(vx) if abs(vx) > p.v_floor else p.v_floor
             kappa = (omega * p.R_e - vx) / ref
@@ -750,8 +760,9 @@ class RefTire:
             if fin[0] == 0.0:
                 o[0] = o[1] = o[2] = o[5] = o[6] = o[7] = o[8] = 0.0
             else:
-                o[0], o[1], o[2] = self.Fr[0], self.Fr[1], fin[1]
-                o[5] = math.hypot(self.Fr[0], self.Fr[1]) / Fz if Fz > 0.0 else 0.0
+                # the road force: the friction impulse of the step over its length
+                o[0], o[1], o[2] = Ix / dt, Iy / dt, Im / dt
+                o[5] = math.hypot(o[0], o[1]) / Fz if Fz > 0.0 else 0.0
                 o[6], o[7], o[8] = fin[3], fin[2], fin[4]
             o[3], o[4], o[9] = kappa, alpha, T0
         return list(self.out)

@@ -38,7 +38,7 @@ from .slip import V_FLOOR, BrushOutputs, velocities_from_slip
 #: Default number of cells along the patch of the steady model (convergence: tests).
 N_STEADY = 64
 #: Default local error tolerance of the element integration [1].
-TOL = 1e-2
+TOL = 2e-3
 
 __all__ = ["N_STEADY", "TOL", "V_ROLL_MIN", "SteadyBrush"]
 

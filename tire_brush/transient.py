@@ -60,7 +60,7 @@ from .params import TireParams
 from .slip import V_FLOOR, BrushOutputs
 
 #: Default number of elements on the patch at the nominal load.
-N_TRANSIENT = 64
+N_TRANSIENT = 32
 #: Default longest outer step [s]: the belt coupling settles an abrupt input change without
 #: overshoot at 0.25 ms (docs/tire-core.md); the elements sub-step inside it anyway.
 DT_INTERNAL = 2.5e-4

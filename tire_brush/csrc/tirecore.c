@@ -42,7 +42,6 @@ struct tf_tire {
     int L;
     double *el;
     double x_top, delta[2], Vb[2], F[2], T_tread, time;
-    double Fr[2];      /* road force (friction) of the last step [N] (outputs) */
     double out[TF_NOUT];
     double work;
 };
@@ -399,6 +398,8 @@ static double pressure(const tf_ctx *c, double x) {
 /* What an element's integration over one outer step leaves besides its state. */
 typedef struct {
     double energy;    /* friction work per unit area [J/m^2] */
+    double Jx, Jy, Jm;  /* impulse of the friction per unit area [N s/m^2] and its moment
+                           about the patch centre [N s/m] */
     double V, P, E, dT, p, fx, fy;
     double steps;
 } tf_eres;
@@ -411,7 +412,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
     double Hn = e[5];
     if (!(Hn > 0.0) || Hn > h_e) Hn = h_e;
     double t = 0.0;
-    double energy = 0.0, steps = 0.0;
+    double energy = 0.0, steps = 0.0, Jx = 0.0, Jy = 0.0, Jm = 0.0;
     double g1 = (1.0 - GAMMA) / GAMMA, ig = 1.0 / GAMMA;
     tf_stage o1, o2;
     o2.V = hypot(wx, wy);
@@ -429,10 +430,14 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
             /* event step: at the smallest step a stick-slip event (a snap, instantaneous for
              * a massless tip) is taken with one implicit Euler stage, which lands on the new
              * equilibrium; the SDIRK extrapolation would overshoot it */
-            double pe = pressure(c, x_end + c->Vr * (rest - H));
+            double xe = x_end + c->Vr * (rest - H);
+            double pe = pressure(c, xe);
             stage(c, H, pe, ux, uy, wx, wy, s, hypot(wx, wy), &o2);
             ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
             energy += H * (o2.P * o2.V);
+            Jx += H * o2.fx;
+            Jy += H * o2.fy;
+            Jm += H * (xe * o2.fy);
             steps += 1.0;
             p2 = pe;
             t += H;
@@ -440,12 +445,14 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
             continue;
         }
         double Hs = GAMMA * H;
-        double p1 = pressure(c, x_end + c->Vr * (rest - Hs));
+        double x1 = x_end + c->Vr * (rest - Hs);
+        double p1 = pressure(c, x1);
         stage(c, Hs, p1, ux, uy, wx, wy, s, hypot(wx, wy), &o1);
         double Zux = ux + g1 * (o1.ux - ux), Zuy = uy + g1 * (o1.uy - uy);
         double Zwx = wx + g1 * (o1.wx - wx), Zwy = wy + g1 * (o1.wy - wy);
         double Zs = s + g1 * (o1.s - s);
-        double pe = pressure(c, x_end + c->Vr * (rest - H));
+        double xe = x_end + c->Vr * (rest - H);
+        double pe = pressure(c, xe);
         stage(c, Hs, pe, Zux, Zuy, Zwx, Zwy, Zs, o1.V, &o2);
         double ex = fabs(o2.ux - (ux + (o1.ux - ux) * ig)) * c->kx;
         double ey = fabs(o2.uy - (uy + (o1.uy - uy) * ig)) * c->ky;
@@ -462,6 +469,9 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
         if (err <= 1.0) {
             ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
             energy += H * ((1.0 - GAMMA) * o1.P * o1.V + GAMMA * o2.P * o2.V);
+            Jx += H * ((1.0 - GAMMA) * o1.fx + GAMMA * o2.fx);
+            Jy += H * ((1.0 - GAMMA) * o1.fy + GAMMA * o2.fy);
+            Jm += H * ((1.0 - GAMMA) * (x1 * o1.fy) + GAMMA * (xe * o2.fy));
             steps += 1.0;
             p2 = pe;
             t += H;
@@ -474,6 +484,9 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
     }
     e[0] = ux; e[1] = uy; e[2] = wx; e[3] = wy; e[4] = s; e[5] = Hn;
     r->energy = energy;
+    r->Jx = Jx;
+    r->Jy = Jy;
+    r->Jm = Jm;
     r->V = o2.V;
     r->P = o2.P;
     r->E = o2.E;
@@ -551,27 +564,24 @@ int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const d
         if (!(a > 0.0 && b > 0.0)) continue;
         double sgn = Vr < 0.0 ? -1.0 : 1.0;
         double vr = fabs(Vr) > V_ROLL_MIN ? fabs(Vr) : V_ROLL_MIN;
-        double dx = 2.0 * a / n_cells, area = b * dx;
-        double wsum = 0.0;
-        for (int j = 0; j < n_cells; j++) {
-            double xi = 1.0 - (2.0 * j + 1.0) / n_cells;
-            wsum += 1.0 - xi * xi;
-        }
         tf_ctx c;
-        ctx_init(&c, p, t, T, Fz, a, b, Fz / (area * wsum), mu_scale, Vsx, Vsy, vr);
+        ctx_init(&c, p, t, T, Fz, a, b, 0.75 * Fz / (a * b), mu_scale, Vsx, Vsy, vr);
         double e[TF_ELEM] = {0.0, 0.0, Vsx, Vsy, 0.0, 0.0, 1.0};
-        double Fx = 0.0, Fy = 0.0, Mz = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
+        double Jx = 0.0, Jy = 0.0, Jm = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
         double steps = 0.0, x_prev = a;
-        for (int j = 0; j < n_cells; j++) {
-            double x = a * (1.0 - (2.0 * j + 1.0) / n_cells);
+        /* the element is followed to the trailing edge; the forces are the impulse of its
+         * friction over the transit times b V_r (the patch integral, no sampling); the
+         * diagnostics are read at the n_cells cell midpoints */
+        for (int j = 0; j <= n_cells; j++) {
+            double x = j < n_cells ? a * (1.0 - (2.0 * j + 1.0) / n_cells) : -a;
             tf_eres r;
             integrate(&c, e, x, (x_prev - x) / vr, &r);
             x_prev = x;
             steps += r.steps;
-            Fx += r.fx;
-            Fy += r.fy;
-            Mz += x * r.fy;
-            if (r.V > CREEP_SPEED) {
+            Jx += r.Jx;
+            Jy += r.Jy;
+            Jm += r.Jm;
+            if (j < n_cells && r.V > CREEP_SPEED) {
                 nsl += 1.0;
                 fsl += r.P;
                 psl += r.p;
@@ -579,11 +589,10 @@ int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const d
                 if (dT > dTm) dTm = dT;
             }
         }
-        Fx *= area;
-        Fy *= area;
+        double Fx = Jx * b * vr, Fy = Jy * b * vr;
         o[0] = Fx;
         o[1] = Fy;
-        o[2] = Mz * area * sgn;
+        o[2] = Jm * b * vr * sgn;
         o[3] = Fz > 0.0 ? hypot(Fx, Fy) / Fz : 0.0;
         o[4] = psl > 0.0 ? fsl / psl : 0.0;
         o[5] = nsl / n_cells;
@@ -778,6 +787,7 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
             tire->T_tread = (tire->T_tread + h / p->heat_capacity * (p->conductance * T_surface)) /
                             (1.0 + h * p->conductance / p->heat_capacity);
         fin[0] = 0.0;
+        fin[5] = fin[6] = fin[7] = 0.0;
         return;
     }
     tf_ctx c;
@@ -799,7 +809,7 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     }
     c.Vbx = Vbx;
     c.Vby = Vby;
-    double Fx = 0.0, Fy = 0.0, Mz = 0.0, heat = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
+    double Jx = 0.0, Jy = 0.0, Jm = 0.0, heat = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
     double n_in = 0.0, Tx = 0.0, Ty = 0.0;
     for (int i = 0; i < L; i++) {
         double x = x_top - i * dx;
@@ -823,9 +833,9 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
         tire->work += r.steps;
         Tx += c.kx * e[0] + c.dx * (e[2] - Vbx);
         Ty += c.ky * e[1] + c.dy * (e[3] - Vby);
-        Fx += r.fx;
-        Fy += r.fy;
-        Mz += x * r.fy;
+        Jx += r.Jx;
+        Jy += r.Jy;
+        Jm += r.Jm;
         heat += r.energy;
         n_in += 1.0;
         if (r.V > CREEP_SPEED) {
@@ -840,15 +850,15 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     tire->Vb[1] = Vby;
     tire->F[0] = Tx * area;
     tire->F[1] = Ty * area;
-    tire->Fr[0] = Fx * area;
-    tire->Fr[1] = Fy * area;
+    fin[5] = Jx * area;
+    fin[6] = Jy * area;
+    fin[7] = Jm * area;
     if (p->thermal) {
         double Q = heat * area;
         tire->T_tread = (tire->T_tread + (p->heat_fraction * Q + h * p->conductance * T_surface) /
                          p->heat_capacity) / (1.0 + h * p->conductance / p->heat_capacity);
     }
     fin[0] = 1.0;
-    fin[1] = Mz * area;
     fin[2] = nsl / n_in;
     fin[3] = psl > 0.0 ? fsl / psl : 0.0;
     fin[4] = dTm;
@@ -869,9 +879,14 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         double V_r = omega * p->R_e;
         double a, b;
         patch_size(p, Fz, &a, &b);
-        double fin[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
-        for (int k = 0; k < n_sub; k++)
+        double fin[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+        double Ix = 0.0, Iy = 0.0, Im = 0.0;
+        for (int k = 0; k < n_sub; k++) {
             advance(tire, h, vx - V_r, vy, V_r, Fz, a, b, Ts, mus, fin);
+            Ix += fin[5];
+            Iy += fin[6];
+            Im += fin[7];
+        }
         tire->time += dt;
         double ref = fabs(vx) > p->v_floor ? fabs(vx) : p->v_floor;
         double kappa = (omega * p->R_e - vx) / ref;
@@ -882,10 +897,11 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         if (fin[0] == 0.0) {
             o[0] = 0.0; o[1] = 0.0; o[2] = 0.0; o[5] = 0.0; o[6] = 0.0; o[7] = 0.0; o[8] = 0.0;
         } else {
-            o[0] = tire->Fr[0];
-            o[1] = tire->Fr[1];
-            o[2] = fin[1];
-            o[5] = Fz > 0.0 ? hypot(tire->Fr[0], tire->Fr[1]) / Fz : 0.0;
+            /* the road force: the friction impulse of the step over its length */
+            o[0] = Ix / dt;
+            o[1] = Iy / dt;
+            o[2] = Im / dt;
+            o[5] = Fz > 0.0 ? hypot(o[0], o[1]) / Fz : 0.0;
             o[6] = fin[3];
             o[7] = fin[2];
             o[8] = fin[4];
