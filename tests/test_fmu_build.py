@@ -15,6 +15,7 @@ from fmu_support import INPUTS, OUTPUTS, braking_inputs, build_test_fmu, synthet
 from fmu_src.build import BuildError, BuildOptions, build_fmu, guid_of
 from fmu_src.interface import UNITS
 from lookup.cli import main
+from lookup.errors import TirefricError
 from tire_brush.friction import GridFriction
 from tire_brush.params import load_tire
 from tire_brush.transient import TransientBrushTire
@@ -136,4 +137,4 @@ def test_build_refuses_bad_options():
         BuildOptions(n_elements=1)
     with pytest.raises(ValueError, match="dt_internal"):
         BuildOptions(dt_internal=0.0)
-    assert issubclass(BuildError, Exception)
+    assert issubclass(BuildError, TirefricError), "build errors are in the domain hierarchy"
