@@ -167,7 +167,10 @@ def run_one(mutation: tuple[str, str, str, str], tmp: Path) -> tuple[str, bool, 
     r = subprocess.run(cmd, cwd=copy, env=environment(copy), capture_output=True, text=True)
     failed = re.findall(r"^(?:FAILED|ERROR) (\S+)", r.stdout, re.M)
     caught = r.returncode != 0
-    by = failed[0].removeprefix("tests/") if failed else (f"pytest exit {r.returncode}" if caught else "-")
+    if failed:
+        by = failed[0].removeprefix("tests/")
+    else:
+        by = f"pytest exit {r.returncode}" if caught else "-"
     shutil.rmtree(copy, ignore_errors=True)
     return name, caught, by, time.perf_counter() - t0
 
