@@ -70,7 +70,7 @@ def test_brush_adapter_vectorised_and_pointwise():
     """The hook for the brush tire: any steady_state(params, friction, ...) -> {'Fx': ...}."""
 
     def steady_state(params, friction, kappa, alpha, vx, Fz, T_K):
-        # Pacejka 2012 ch. 3 brush, static/kinetic friction (physics-notes), pure kappa
+        # Pacejka 2012 ch. 3 brush, static/kinetic friction (docs/review-notes.md), pure kappa
         sigma = np.abs(kappa) / (1.0 + kappa)
         lam = np.minimum(params["theta"] * sigma, 1.0)
         mu_s, mu_k = friction
@@ -136,7 +136,7 @@ def test_study_on_dask_cluster(tmp_path):
 
 @pytest.mark.slow
 def test_shipped_brush_study_runs(tmp_path):
-    """``abs_default``: the brush tire on the default grid, end to end (issue 6)."""
+    """``abs_default``: the brush tire on the default grid, end to end."""
     pytest.importorskip("tire_brush.steady")
     if not (models_dir() / "grids" / "default.nc").is_file():
         pytest.skip("default grid not built")

@@ -2,8 +2,8 @@
 
 The fast tests use the synthetic grid of :mod:`fmu_support` (packaging and co-simulation
 behaviour); the slow test compares the rule-based ABS through the FMU with the same ABS on the
-steady force map of the shipped default grid (issue 6: "the three stopping distances compare
-on identical physics").
+steady force map of the shipped default grid (the three stopping distances must compare on
+identical physics).
 """
 
 from __future__ import annotations

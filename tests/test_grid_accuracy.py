@@ -1,6 +1,6 @@
 """Interpolation error of grids against direct engine evaluation at random off-node points.
 
-Issue 3 asks for the bound to be stated (aim: < 1 % in mu). Measured with the default spec's
+The bound is stated here (aim: < 1 % in mu). Measured with the default spec's
 node spacing (91 x 71 x 11; ``models/grids/default.toml``), on a window of it and, once it has
 been built, on the shipped default grid:
 

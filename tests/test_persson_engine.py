@@ -1,7 +1,8 @@
-"""Physics checks of the Persson engine (physics-notes, "Checks any correct implementation
-passes"). Tolerances are tiered: ~1e-9 where only floating point separates two evaluations of
-the same formula, ~1e-6 against closed forms with converged quadrature, looser where the
-default resolution or a physical approximation limits accuracy (reason given at each)."""
+"""Physics checks of the Persson engine (docs/review-notes.md, "Closed forms and checks"; the
+traps cited as "trap N" are those of docs/review-notes.md). Tolerances are tiered: ~1e-9 where only
+floating point separates two evaluations of the same formula, ~1e-6 against closed forms with
+converged quadrature, looser where the default resolution or a physical approximation limits
+accuracy (reason given at each)."""
 
 from __future__ import annotations
 
@@ -84,7 +85,7 @@ def test_area_decreases_with_magnification(compound, surface) -> None:
 # -- single-relaxation closed forms -------------------------------------------------------------
 @pytest.mark.parametrize("n_phi,per_decade,rtol", [(64, 400, 2e-6), (16, 40, 2e-3)])
 def test_single_relaxation_angular_integrals(n_phi, per_decade, rtol) -> None:
-    """Angular integrals of eq. (17) and (19) vs the closed forms of physics-notes.
+    """Angular integrals of eq. (17) and (19) vs the closed forms of docs/review-notes.md.
 
     Converged settings (64 nodes, modulus table at 400/decade) must agree to ~1e-6; the
     default settings are limited by the log-log table (error ~ (dx)^2/8 curvature, 2e-3)."""

@@ -1,4 +1,4 @@
-"""Every command in the README is run here (issue 7), in order, in a scratch folder holding
+"""Every command in the README is run here, in order, in a scratch folder holding
 copies of models/ and examples/ (the way a user runs them from a checkout).
 
 Blocks: ``csv``/``toml`` blocks whose first line is ``# file: NAME`` are written to that file;
