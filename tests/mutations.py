@@ -85,6 +85,8 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
      '"rad/s": {"rad": 1, "s": -1},', '"rad/s": {"rad": 1, "s": 1},'),
     ("FMU N.m base-unit exponent", "fmu_src/interface.py",
      '"N.m": {"kg": 1, "m": 2, "s": -2},', '"N.m": {"kg": 1, "m": 1, "s": -2},'),
+    ("FMU state error outside the TirefricError hierarchy", "fmu_src/state.py",
+     "class StateFormatError(TirefricError, ValueError):", "class StateFormatError(ValueError):"),
     # -- tire and braking (tire_brush/) -------------------------------------------------------
     ("slip defined on the rolling speed (omega R_e) instead of vx", "tire_brush/slip.py",
      "kappa = (omega * R_e - vx) / ref",
@@ -95,7 +97,7 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
 
 #: Test files run first (independent references; cheap); the rest follow in name order.
 FIRST = ["test_physics_reference.py", "test_fmu_units.py", "test_slip_kinematics.py",
-         "test_persson_engine.py"]
+         "test_errors.py", "test_persson_engine.py"]
 
 IGNORE = shutil.ignore_patterns(".git", "*.egg-info", "__pycache__", ".pytest_cache",
                                 ".ruff_cache", "build", "dist")
