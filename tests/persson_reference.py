@@ -26,6 +26,44 @@ def self_affine_C(q: np.ndarray, q0: float, H: float, h_rms: float) -> np.ndarra
     return np.where(q >= q0, C0 * (q / q0) ** (-2.0 * (1.0 + H)), 0.0)
 
 
+def prony_modulus(omega: np.ndarray, E_inf: float, E_k: np.ndarray,
+                  tau_k: np.ndarray) -> np.ndarray:
+    """Generalised Maxwell solid, E = E_inf + sum_k E_k (-i w tau_k)/(1 - i w tau_k) [Pa]
+    (the e^{-i w t} convention of review eq. 4: Im E < 0 for w > 0)."""
+    x = -1j * np.asarray(omega)[..., None] * tau_k
+    return E_inf + np.sum(E_k * x / (1.0 + x), axis=-1)
+
+
+def rolloff_C(q: np.ndarray, q0: float, q_r: float, H: float, h_rms: float) -> np.ndarray:
+    """C = C0 on [q0, q_r), C0 (q/q_r)^(-2(1+H)) above [m^4], C0 from
+    h_rms^2 = 2 pi C0 [(q_r^2 - q0^2)/2 + q_r^2/(2H)]."""
+    C0 = h_rms**2 / (2.0 * np.pi * (0.5 * (q_r**2 - q0**2) + q_r**2 / (2.0 * H)))
+    return np.where(q < q0, 0.0, np.where(q < q_r, C0, C0 * (q / q_r) ** (-2.0 * (1.0 + H))))
+
+
+def mu_visc_general(v: float, sigma0: float, nu: float, modulus, C, q0: float, q1: float,
+                    gamma: float = 0.5, per_decade: int = 400,
+                    n_phi: int = 2000) -> tuple[float, float]:
+    """mu_visc and P(q1) of review eqs. (17)-(20) for any complex modulus E(omega) and
+    spectrum C(q) (callables), by the quadrature of :func:`mu_visc_bruteforce`."""
+    n = round(np.log10(q1 / q0) * per_decade) + 1
+    q = np.geomspace(q0, q1, n)
+    phi = (np.arange(n_phi) + 0.5) * (2.0 * np.pi / n_phi)
+    dphi = 2.0 * np.pi / n_phi
+    Es = modulus(q[:, None] * v * np.cos(phi)[None, :]) / ((1.0 - nu**2) * sigma0)
+    ang_loss = np.sum(np.cos(phi)[None, :] * (-Es.imag), axis=1) * dphi
+    ang_abs2 = np.sum(np.abs(Es) ** 2, axis=1) * dphi
+    Cq = C(q)
+    lnq = np.log(q)
+    dG = 0.125 * q**4 * Cq * ang_abs2
+    G = np.concatenate([[0.0], np.cumsum(0.5 * (dG[1:] + dG[:-1]) * np.diff(lnq))])
+    with np.errstate(divide="ignore"):
+        P = erf(1.0 / (2.0 * np.sqrt(G)))
+    S = gamma + (1.0 - gamma) * P**2
+    integrand = 0.5 * q**4 * Cq * S * P * ang_loss
+    return float(np.sum(0.5 * (integrand[1:] + integrand[:-1]) * np.diff(lnq))), float(P[-1])
+
+
 def mu_visc_bruteforce(v: float, sigma0: float, nu: float, E0: float, E1: float, tau: float,
                        q0: float, q1: float, H: float, h_rms: float, gamma: float = 0.5,
                        per_decade: int = 400, n_phi: int = 2000, eta_R: float = 1.0,

@@ -17,7 +17,6 @@ from lookup.modulus import Prony, SingleRelaxation, TabulatedMasterCurve
 from lookup.reference import (
     contact_area_elastic,
     gaussian_law_fwhm,
-    layered_K,
     single_relaxation_angular_abs2,
     single_relaxation_angular_loss,
 )
@@ -214,14 +213,6 @@ def test_heat_kernel_surface_source_limits() -> None:
             assert with_lat == pytest.approx(one_d, rel=1e-3)
         else:
             assert with_lat == pytest.approx(D / kappa, rel=1e-3), "eq. (25) limit"
-
-
-# -- layered solid ---
-def test_layered_factor_limits() -> None:
-    E0, nu0, E1, nu1 = 5e6, 0.5, 2e11, 0.3
-    K = layered_K(np.array([0.0, 60.0]), E0, nu0, E1, nu1)
-    assert K[0] == pytest.approx((E0 / (1 - nu0**2)) / (E1 / (1 - nu1**2)), rel=1e-12)
-    assert K[1] == pytest.approx(1.0, abs=1e-12)
 
 
 # -- tabulated master curve policy ---
