@@ -212,3 +212,22 @@ def test_hot_residual_reported_by_cli_and_grid(tmp_path, compound, surface) -> N
     assert float(sl["residual_hot"][0, 0]) == pytest.approx(r_full, rel=1e-12, abs=1e-15)
     sl2 = starved.grid_slice(v, T, p)
     assert float(sl2["residual_hot"][0, 0]) == pytest.approx(r_starved, rel=1e-12)
+
+
+def test_cli_reports_the_hot_residual(capsys) -> None:
+    """``tirefric mu --json`` reports as ``hot_residual_K`` the largest residual of the hot
+    solves it printed: 0 < r <= hot_tol when the speeds heat the rubber (10 m/s: tens of K)."""
+    import json
+
+    from lookup.cli import main
+    from lookup.compound import load_compound
+    from lookup.surface import load_surface
+
+    assert main(["mu", "--compound", "summer", "--surface", "asphalt", "--v", "0.01,10",
+                 "--T", "20", "--p", "3e5", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    m = PerssonFriction(load_compound("summer"), load_surface("asphalt"))
+    h = m.hot(np.array([0.01, 10.0]), T20, 3e5)
+    assert out["hot_residual_K"] == pytest.approx(float(h.residual.max()), rel=1e-12)
+    assert 0.0 < out["hot_residual_K"] <= m.settings.hot_tol
+    assert out["points"][1]["dT_flash"] == pytest.approx(float(h.dT_flash[1]), rel=1e-12)
