@@ -113,7 +113,10 @@ def _id(block: tuple) -> str:
     ids=[_id(b) for b in RUNNABLE])
 def test_readme_block_runs(workdir: Path, lang: str, body: str, mark: str,
                            expected: tuple[str, float, float] | None) -> None:
-    env = dict(os.environ, MPLBACKEND="Agg")
+    # the commands (``tirefric``, ``python``) of the interpreter running the tests come first,
+    # or a bash block could run another installation's tirefric than the one under test
+    path = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
+    env = dict(os.environ, MPLBACKEND="Agg", PATH=path)
     if lang == "bash":
         cmd = ["bash", "-e", "-o", "pipefail", "-c", body]
     else:
