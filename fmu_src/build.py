@@ -40,6 +40,7 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
+from lookup import __version__
 from lookup.errors import InputError, TirefricError
 from tire_brush.params import TireParams, load_tire
 from tire_brush.slip import V_FLOOR
@@ -246,7 +247,7 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
     s0 = float(grid.meta["s0_m"]) if options.s0 is None else float(options.s0)
     tire_d = tire_to_dict(tire)
     tire_d["file"] = Path(tire.source).name if tire.source else ""
-    tirefric_version = _package_version("tirefric")
+    tirefric_version = __version__  # the one definition, also read by the packaging
     build: dict[str, Any] = {
         "format": BUILD_FORMAT, "format_version": 1,
         "model": {

@@ -5,8 +5,8 @@ description, start value); the slave (:mod:`fmu_src.slave`) registers its variab
 the build (:mod:`fmu_src.model_description`) writes units, unit definitions and the model
 structure from the same table, so the two cannot disagree.
 
-Conventions (issue 5, ``../shared/design.md``): SI units, FMI structured names. The tire
-parameters are the fields of :class:`tire_brush.params.TireParams` under ``tire.``
+Conventions (``docs/design.md``, "Units" and "Conventions"): SI units, FMI structured names.
+The tire parameters are the fields of :class:`tire_brush.params.TireParams` under ``tire.``
 (``tire.tread.k_x``); every one of them needs an entry in :data:`TIRE_FIELDS`, the build refuses
 a tire whose parameters are not all covered.
 

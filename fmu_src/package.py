@@ -13,10 +13,10 @@ copy of exactly the modules the slave needs, under a package name no one else us
   ``from tirefric_fmu_runtime_<h>.lookup.errors import X``); relative imports stay as they are;
 * **checks** -- every module-level import of the copy must be the standard library, numpy,
   pythonfmu (the slave only) or the copy itself. A module that imports scipy, xarray, casadi,
-  matplotlib (or anything else) at module level stops the build with a message naming the
-  module and the import: what runs inside an FMU needs numpy and the standard library only
-  (``../shared/design.md``). Imports inside functions are rewritten too but only reported:
-  they are not executed unless that function is called (e.g. ``load_tire`` reading TOML).
+  matplotlib (or anything else) at module level stops the build with a message naming the module and
+  the import: what runs inside an FMU needs numpy and the standard library only (``docs/design.md``,
+  "Runtime constraints"). Imports inside functions are rewritten too but only reported: they are not
+  executed unless that function is called (e.g. ``load_tire`` reading TOML).
 
 This module runs at build time only.
 """

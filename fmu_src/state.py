@@ -13,7 +13,8 @@ its little-endian float64 bytes, named in the header by offset, length and shape
 :func:`from_bytes` checks the magic, the checksum and every size before it builds anything, and
 never unpickles (a state blob from a master is data, not code).
 
-This module imports only numpy and the standard library: it runs inside the FMU.
+This module imports only numpy, the standard library and :mod:`lookup.errors` (standard library
+only): it runs inside the FMU (``docs/design.md``, "Runtime constraints").
 """
 
 from __future__ import annotations
@@ -24,13 +25,15 @@ from typing import Any
 
 import numpy as np
 
+from lookup.errors import TirefricError
+
 MAGIC = b"TIREFRIC-FMU-STATE\x00"
 #: Version of the byte layout.
 FORMAT_VERSION = 1
 _DIGEST = 32
 
 
-class StateFormatError(ValueError):
+class StateFormatError(TirefricError, ValueError):
     """The bytes are not a state written by :func:`to_bytes` (or were altered)."""
 
 

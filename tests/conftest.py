@@ -1,10 +1,20 @@
-"""Shared fixtures: small hand-built compounds and surfaces with known closed forms."""
+"""Shared fixtures: small hand-built compounds and surfaces with known closed forms.
+
+The pytest header names the copy of the package the tests import: the working tree (an
+editable install, or ``PYTHONPATH`` pointing at a checkout) or an installed copy. With
+``TIREFRIC_EXPECT_COPY=installed`` (or ``=working-tree``) the run stops at start-up when the
+other copy is imported (``.ci/run`` sets it: CI tests the installed package).
+"""
 
 from __future__ import annotations
+
+import os
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+import lookup
 from lookup.adhesion import GaussianShearLaw, NoAdhesion
 from lookup.compound import Compound, RubberThermal
 from lookup.modulus import Prony, SingleRelaxation
@@ -14,6 +24,28 @@ from lookup.softening import NoSoftening
 from lookup.surface import RoadThermal, Surface
 
 T20 = 293.15
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def imported_copy() -> tuple[str, Path]:
+    """("working-tree" or "installed", the folder ``lookup`` was imported from)."""
+    where = Path(lookup.__file__).resolve().parent
+    return ("working-tree" if where.is_relative_to(ROOT) else "installed"), where
+
+
+def pytest_report_header(config: pytest.Config) -> str:
+    kind, where = imported_copy()
+    label = "working tree" if kind == "working-tree" else "installed copy"
+    return f"tirefric: lookup imported from {where} ({label}), version {lookup.__version__}"
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    want = os.environ.get("TIREFRIC_EXPECT_COPY")
+    kind, where = imported_copy()
+    if want and want != kind:
+        raise pytest.UsageError(f"TIREFRIC_EXPECT_COPY={want}, but the tests import {kind} "
+                                f"code from {where}")
 
 
 def make_compound(modulus=None, adhesion=None, shift=None, nu: float = 0.5) -> Compound:

@@ -2,8 +2,8 @@
 
 The fast tests use the synthetic grid of :mod:`fmu_support` (packaging and co-simulation
 behaviour); the slow test compares the rule-based ABS through the FMU with the same ABS on the
-steady force map of the shipped default grid (issue 6: "the three stopping distances compare
-on identical physics").
+steady force map of the shipped default grid (the three stopping distances must compare on
+identical physics).
 """
 
 from __future__ import annotations
@@ -19,7 +19,6 @@ from fmu_support import build_test_fmu, synthetic_grid
 
 from fmu_src.cosim import (
     CosimSettings,
-    FmuBrakingSimulator,
     braking_simulator,
     simulate_braking_fmu,
 )
@@ -126,7 +125,7 @@ def test_plug_in_builds_once_and_is_found_by_the_study(tmp_path):
         load_braking_simulator("nonexistent")
     grid = synthetic_grid().save_npz(tmp_path / "synthetic.npz")
     sim = braking_simulator("passenger", grid, tmp_path / "work", {"step": 1e-3})
-    assert isinstance(sim, FmuBrakingSimulator) and Path(sim.fmu).is_file()
+    assert Path(sim.fmu).is_file()
     mtime = Path(sim.fmu).stat().st_mtime_ns
     again = braking_simulator("passenger", grid, tmp_path / "work", {"dt_internal": 5e-4})
     assert again.fmu == sim.fmu and Path(sim.fmu).stat().st_mtime_ns == mtime, \
@@ -183,7 +182,6 @@ def test_study_writes_the_fmu_abs_distance(tmp_path):
     doc = json.loads((out / "results.json").read_text())
     case = doc["cases"][0]
     d_fmu = case["stopping_distance_abs_fmu"]
-    assert isinstance(d_fmu, float) and d_fmu > 0
     # plumbing only: the 64-cell map and the FMU's 1 ms internal step resolve eq. (28)
     # differently (see the default-grid comparison below for agreement)
     assert case["stopping_distance_ocp"] < d_fmu < case["stopping_distance_locked"], \
@@ -242,4 +240,4 @@ def test_demo_manoeuvre_writes_its_plot_and_numbers(fmu, tmp_path):
     assert figures[0].stat().st_size > 10_000
     assert numbers["abs"]["stopping_distance_m"] < numbers["locked"]["stopping_distance_m"]
     assert numbers["locked"]["T_tread_rise_K"] > numbers["abs"]["T_tread_rise_K"] > 0
-    assert json.dumps(numbers), "JSON-able for the demo report"
+    assert json.loads(json.dumps(numbers)) == numbers, "JSON round trip for the demo report"

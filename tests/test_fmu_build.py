@@ -11,10 +11,12 @@ import zipfile
 import numpy as np
 import pytest
 from fmu_support import INPUTS, OUTPUTS, braking_inputs, build_test_fmu, synthetic_grid
+from test_fmu_units import _si_exponents
 
 from fmu_src.build import BuildError, BuildOptions, build_fmu, guid_of
 from fmu_src.interface import UNITS
 from lookup.cli import main
+from lookup.errors import TirefricError
 from tire_brush.friction import GridFriction
 from tire_brush.params import load_tire
 from tire_brush.transient import TransientBrushTire
@@ -39,6 +41,14 @@ def test_model_description_has_units_structure_and_metadata(fmu):
     reals = [v for v in md.modelVariables if v.type == "Real"]
     assert reals and all(v.unit in units for v in reals), "every Real needs a defined unit"
     assert units <= set(UNITS)
+    base = ("kg", "m", "s", "A", "K", "mol", "cd", "rad")
+    for u in md.unitDefinitions:  # as written into the FMU, against SI parsed from the name
+        written = {b: getattr(u.baseUnit, b) for b in base if getattr(u.baseUnit, b)}
+        assert written == _si_exponents(u.name), f"base-unit exponents of {u.name} in the FMU"
+    degC = [d for u in md.unitDefinitions if u.name == "K" for d in u.displayUnits]
+    assert [d.name for d in degC] == ["degC"]
+    assert degC[0].factor * 373.15 + degC[0].offset == pytest.approx(100.0, abs=1e-9), \
+        "373.15 K is shown as 100 degC"
     by = {v.name: v for v in md.modelVariables}
     assert by["T_surface"].unit == "K" and by["omega"].unit == "rad/s"
     assert by["Mz"].unit == "N.m"
@@ -136,4 +146,4 @@ def test_build_refuses_bad_options():
         BuildOptions(n_elements=1)
     with pytest.raises(ValueError, match="dt_internal"):
         BuildOptions(dt_internal=0.0)
-    assert issubclass(BuildError, Exception)
+    assert issubclass(BuildError, TirefricError), "build errors are in the domain hierarchy"

@@ -1,6 +1,6 @@
 """Interpolation error of grids against direct engine evaluation at random off-node points.
 
-Issue 3 asks for the bound to be stated (aim: < 1 % in mu). Measured with the default spec's
+The bound is stated here (aim: < 1 % in mu). Measured with the default spec's
 node spacing (91 x 71 x 11; ``models/grids/default.toml``), on a window of it and, once it has
 been built, on the shipped default grid:
 
@@ -63,7 +63,50 @@ def test_default_spacing_on_a_window(tmp_path):
     check_bounds(errors, f"window {sub.shape}")
 
 
+@pytest.mark.parametrize("v,T_C,p", [(1.0, 20.0, 3e5), (0.1, 20.0, 1e6), (1.0, 40.0, 3e5)])
+def test_default_grid_nodes_against_bruteforce(v, T_C, p):
+    """The shipped grid against a reference that shares no code with the engine
+    (:mod:`persson_reference`): eqs. (17)-(20) by direct quadrature with the summer compound's
+    Prony arms, its WLF and Kraus factors written out here (C1 = 15, C2 = 150 K at 20 C;
+    eps = 0.1, eps_c = 0.01, m = 0.6, r_inf = 0.25, h = 1.3) and the asphalt's roll-off
+    spectrum (q0 = 200, q_r = 295 1/m, H = 0.65, h_rms = 0.7 mm) up to the grid's stored q1.
+    At grid nodes the grid holds the engine's values; measured engine/reference - 1 is
+    0.12-0.18 % in mu_visc_cold (default q and modulus-table resolution) and 0.02-0.06 % in
+    area_cold; asserted: 0.5 % and 0.2 %. A wrong prefactor or exponent is tens of percent."""
+    from persson_reference import mu_visc_general, prony_modulus, rolloff_C
+
+    from lookup.compound import load_compound
+
+    try:
+        grid = load_grid("default")
+    except InputError:
+        pytest.skip("the default grid has not been built yet")
+    iv = int(np.argmin(np.abs(grid.log10_v - np.log10(v))))
+    iT = int(np.argmin(np.abs(grid.T - (T_C + 273.15))))
+    ip = int(np.argmin(np.abs(grid.log10_p - np.log10(p))))
+    v, T, p = 10 ** grid.log10_v[iv], grid.T[iT], 10 ** grid.log10_p[ip]
+    prony = load_compound(grid.meta["compound_name"]).modulus
+    x = (0.1 / 0.01) ** 0.6
+    eta_R, eta_I = 0.25 + 0.75 / (1 + x * x), 1 + 2 * 0.3 * x / (1 + x * x)
+    la = -15.0 * (T - 293.15) / (150.0 + T - 293.15)
+
+    def E(w):
+        Z = prony_modulus(w * 10**la, prony.E_inf, prony.E_k, prony.tau_k)
+        return eta_R * Z.real + 1j * eta_I * Z.imag
+
+    def C(q):
+        return rolloff_C(q, 200.0, 295.0, 0.65, 0.7e-3)
+
+    mu, area = mu_visc_general(v, p, 0.5, E, C, 200.0, float(grid.meta["q1_per_m"]),
+                               n_phi=1000)
+    got = grid.interpolate(v, T, p, names=("mu_visc_cold", "area_cold"))
+    assert float(got["mu_visc_cold"]) == pytest.approx(mu, rel=5e-3), "mu_visc_cold, eq. (17)"
+    assert float(got["area_cold"]) == pytest.approx(area, rel=2e-3), "area_cold, eqs. (18)-(19)"
+
+
 def test_default_grid_against_engine():
+    """Golden comparison: the engine reproduces the shipped grid (which it built); the grid
+    itself is pinned by the independent reference above."""
     try:
         grid = load_grid("default")
     except InputError:

@@ -295,7 +295,7 @@ def test_constant_grid():
     g = FrictionGrid.constant(1.1, 0.7, D_m=2e-3)
     out = g.interpolate(np.logspace(-8, 3, 50), 300.0, 2e5, names=VARIABLES)
     assert np.all(out["mu_cold"] == 1.1) and np.all(out["mu_hot"] == 0.7), "flat everywhere"
-    assert np.all(out["mu_visc_cold"] + out["mu_cont_cold"] == 1.1), "visc + cont = mu"
+    assert np.all(out["mu_cont_cold"] == 0.0), "a constant grid has no adhesive part"
     assert g.s0_m == pytest.approx(0.2 * 2e-3) and g.D_m == 2e-3, "s0 defaults to 0.2 D"
     assert g.meta["hash"].startswith("sha256:"), "the hash is set"
 

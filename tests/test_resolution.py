@@ -1,4 +1,4 @@
-"""Resolution study (issue 2): the default q, phi, modulus-table and heat-kernel resolutions
+"""Resolution study: the default q, phi, modulus-table and heat-kernel resolutions
 give mu within 0.3 % of a run with every resolution four times finer, on the shipped
 compounds and surfaces, cold and hot, over the default grid's ranges of v, T and p."""
 

@@ -88,7 +88,7 @@ def test_high_speed_limit() -> None:
 
 
 def test_review_gaussian_fit_of_fig_A2() -> None:
-    """physics-notes Appendix A check: dE/kT = 3, nu0 = nu1 -> a = 1.172, b = 0.558.
+    """Review appendix A check (docs/review-notes.md): dE/kT = 3, nu0 = nu1 -> a = 1.172, b = 0.558.
 
     Fit window: log10(v/v*) in [-4, 4], uniform spacing 0.05, unweighted least squares in
     sigma_f/sigma*. Tolerance 1e-3 absolute: the review quotes three decimals (rounding

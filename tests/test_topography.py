@@ -1,4 +1,5 @@
-"""Power spectra from topography (review's C(q) convention, physics-notes trap 4), I/O, errors.
+"""Power spectra from topography (the review's C(q) convention: docs/review-notes.md trap 4),
+I/O, errors.
 
 Tolerance tiers: ~1e-12 for exact discrete identities (Parseval, per-mode spectra), ~1e-9 for
 closed-form transforms of power laws (quadrature only), 1e-3 where log binning or the 1D -> 2D

@@ -12,10 +12,10 @@ a tensor grid and interpolated by a tensor-product B-spline:
 * the knots and the coefficients (flattened in Fortran order, the first axis fastest, as
   CasADi's ``BSpline`` node expects) go to ``casadi.Function.bspline``. This is exact and
   fast; ``casadi.interpolant(..., 'bspline')`` fits its own coefficients and becomes slow and
-  memory-hungry beyond ~1e4 nodes (measured, issue 6).
+  memory-hungry beyond ~1e4 nodes (measured).
 
-The speed axis is stored and interpolated as ``log10(vx)`` (``shared/style.md``). An axis with
-a single node is a constant: the map does not depend on that input.
+The speed axis is stored and interpolated as ``log10(vx)`` (``docs/design.md``, "Units").
+An axis with a single node is a constant: the map does not depend on that input.
 
 Out of range: every input is clamped to its axis range (CasADi and numpy evaluation alike), so
 the map extends as a constant beyond its edges and its derivative there is zero. Studies keep

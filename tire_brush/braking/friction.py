@@ -7,9 +7,9 @@ A study case (road, compound, temperature) is turned into a friction callable
     A closed-form curve of :mod:`.reference` (Burckhardt or Magic Formula) for the case's road;
     compounds and temperature do not enter. Needs no grid: the validation source.
 ``brush``
-    The steady state of the brush tire (issue 4) on a friction grid of the lookup package, for
-    the case's compound, road and temperature (``SteadyBrush.fx_over_fz``). The adapter
-    :func:`brush_fx_over_fz` turns any other
+    The steady state of the brush tire (:mod:`tire_brush.steady`) on a friction grid of the
+    lookup package, for the case's compound, road and temperature
+    (``SteadyBrush.fx_over_fz``). The adapter :func:`brush_fx_over_fz` turns any other
     ``steady_state(params, friction, kappa, alpha, vx, Fz, T_K)`` into ``fx_over_fz``.
 
 Further sources plug in with :func:`register_friction_source`. A factory receives the study's
@@ -249,7 +249,8 @@ def brush_inputs(settings: Mapping[str, Any], case: Case, base_dir: Path) -> tup
 
 
 def brush_source(settings: Mapping[str, Any], case: Case, base_dir: Path) -> FrictionSource:
-    """The brush tire (issue 4) on the grid of ``case.compound`` on ``case.road``.
+    """The steady brush tire (:mod:`tire_brush.steady`) on the grid of ``case.compound`` on
+    ``case.road``.
 
     Settings: ``tire`` (TOML file or shipped name, default ``passenger``) and ``grid`` (file
     or shipped grid name, default ``default``) in which ``{compound}`` and ``{road}`` are

@@ -14,7 +14,7 @@ Problem (states and equations in :mod:`.quarter_car`)::
 Transcription: direct collocation with Lagrange polynomials on Legendre points (Biegler,
 *Nonlinear Programming*, SIAM 2010, sec. 10.2), piecewise-constant torque rate per interval,
 time scaled to ``tau = t / t_f`` in [0, 1]. Implicit collocation is A-stable, which the stiff
-wheel dynamics need (explicit shooting fails there, issue 6). Decision variables are scaled to
+wheel dynamics need (explicit shooting fails there). Decision variables are scaled to
 order one by reference values (v0, v0 / R, T_b,max, the point-mass distance).
 
 The singular arc (braking at the peak of mu(kappa)) makes the torque rate a singular control;

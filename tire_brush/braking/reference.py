@@ -1,11 +1,11 @@
 """Closed-form friction curves and stopping-distance limits for the braking studies.
 
-Package code (not test scaffolding, see ``shared/style.md``): the tests, the study runner's
-analytic friction option and the docs all use these.
+Package code (not test scaffolding; ``docs/design.md``, "Dependency direction"): the tests, the
+study runner's analytic friction option and the docs all use these.
 
-Sign convention (Pacejka 2012, sec. 2.2; ``shared/physics-notes.md``): longitudinal slip
-``kappa = (omega R_e - v_x) / v_x``, negative in braking, -1 for a locked wheel; the force ratio
-``Fx/Fz`` has the sign of ``kappa``. Every curve here is odd in ``kappa``.
+Sign convention (Pacejka 2012, sec. 2.2; ``docs/review-notes.md``, "Brush-model closed forms"):
+longitudinal slip ``kappa = (omega R_e - v_x) / v_x``, negative in braking, -1 for a locked wheel;
+the force ratio ``Fx/Fz`` has the sign of ``kappa``. Every curve here is odd in ``kappa``.
 
 References
 ----------

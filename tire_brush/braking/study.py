@@ -54,7 +54,8 @@ from .quarter_car import QuarterCar, load_quarter_car, tread_temperature_rise_bo
 from .simulation import SimResult, SimSettings, simulate_braking
 from .slip_map import SlipMap, optimal_slip
 
-#: Columns of the results table, in order (the product interface named in issue 6 first).
+#: Columns of the results table, in order (the product interface first: the three stopping
+#: distances and the optimal slip).
 RESULT_KEYS = (
     "case", "road", "compound", "T_C",
     "stopping_distance_ocp", "stopping_distance_abs", "stopping_distance_locked",

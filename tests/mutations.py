@@ -1,0 +1,212 @@
+"""Mutation check: each planted physics error must make the fast test suite fail.
+
+Usage::
+
+    python tests/mutations.py            # all mutations, a table, exit 1 if one survives
+    python tests/mutations.py --list     # the mutations and whether each patch applies
+    python tests/mutations.py -k flash   # only mutations whose name contains "flash"
+
+Every entry of :data:`MUTATIONS` is one tuple ``(name, file, old, new)``: the exact text
+``old`` in ``file`` (relative to the repository root) is replaced by ``new``. An entry whose
+``old`` text is not found exactly once is refused (the check stops before running anything),
+so a mutation can never silently become a no-op after the code changes.
+
+Each mutation is applied to a fresh copy of the repository in a temporary folder, and the
+fast suite (the ``pytest`` defaults of ``pyproject.toml``: ``-m 'not slow'``) runs there with
+``-x`` and ``PYTHONPATH`` pointing at the copy, so that the copy is imported and not the
+installed package; this is verified before the first run. The test files are passed in an
+order that puts the independent physics references first, so that a caught mutation stops
+early; the set of tests is the whole fast suite. Mutations run in parallel (``-j``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: (name, file, exact old text, new text). Add an entry as one tuple.
+MUTATIONS: list[tuple[str, str, str, str]] = [
+    # -- Persson engine (lookup/) ------------------------------------------------------------
+    ("eq. (17) mu_visc prefactor halved", "lookup/friction.py",
+     "contrib = 4.0 * sigma0[:, None] * rho", "contrib = 2.0 * sigma0[:, None] * rho"),
+    ("eq. (18) P(q) argument as printed (erf(sqrt(G)/2))", "lookup/contact.py",
+     "return erf(0.5 / np.sqrt(G))", "return erf(0.5 * np.sqrt(G))"),
+    ("eq. (20) S(q) = gamma + (1 - gamma) P", "lookup/contact.py",
+     "h = (S := gamma + (1.0 - gamma) * P * P) * P * Gf",
+     "h = (S := gamma + (1.0 - gamma) * P) * P * Gf"),
+    ("eq. (19) contact-area scaling: G prefactor 1/8 -> 1/4", "lookup/friction.py",
+     "g = 0.125 * self.F * A_2 * s2", "g = 0.25 * self.F * A_2 * s2"),
+    ("adhesive friction without the A/A0 factor", "lookup/friction.py",
+     "mu_cont = sig_f * area / sigma0", "mu_cont = sig_f / sigma0"),
+    ("loss modulus sign (E_I = +Im E)", "lookup/modulus.py",
+     "return E.real, -E.imag", "return E.real, E.imag"),
+    ("angular symmetry factor 4 -> 2 in the loss integral", "lookup/friction.py",
+     'A_I = 4.0 * c * np.einsum("bqk,k->bq", EI',
+     'A_I = 2.0 * c * np.einsum("bqk,k->bq", EI'),
+    ("a_T direction reversed", "lookup/compound.py",
+     "return self.shift.log10_aT(T) - self.shift.log10_aT(np.asarray(self.T_ref))",
+     "return self.shift.log10_aT(np.asarray(self.T_ref)) - self.shift.log10_aT(T)"),
+    ("WLF continuation slope sign", "lookup/shift.py",
+     "slope = -self.C1 * self.C2 / (self.C2 + d_min) ** 2",
+     "slope = self.C1 * self.C2 / (self.C2 + d_min) ** 2"),
+    ("tabulated a_T: low-end extrapolation with the high-end slope", "lookup/shift.py",
+     "s0 = (y[1] - y[0]) / (x[1] - x[0])", "s0 = (y[-1] - y[-2]) / (x[-1] - x[-2])"),
+    ("Arrhenius eq. (22) sign", "lookup/shift.py",
+     "(self.activation_energy / K_B) * (1.0 / T - 1.0 / self.T_ref)",
+     "(self.activation_energy / K_B) * (1.0 / self.T_ref - 1.0 / T)"),
+    ("eq. (6) Kraus eta_I peak doubled", "lookup/softening.py",
+     "eta_I = 1.0 + 2.0 * (self.h - 1.0) * x / (1.0 + x * x)",
+     "eta_I = 1.0 + 4.0 * (self.h - 1.0) * x / (1.0 + x * x)"),
+    ("tabulated softening: eta_R and eta_I swapped", "lookup/softening.py",
+     "return float(np.interp(ls, x, self.eta_R)), float(np.interp(ls, x, self.eta_I))",
+     "return float(np.interp(ls, x, self.eta_I)), float(np.interp(ls, x, self.eta_R))"),
+    ("flash contact time doubled (t_c = 2 D / v)", "lookup/friction.py",
+     "t_c = self.D / key", "t_c = 2.0 * self.D / key"),
+    ("flash: scale q felt at depth 1/q instead of 1/(2q)", "lookup/friction.py",
+     "self.z_eval = np.concatenate([[0.0], 1.0 / (2.0 * self.q)])",
+     "self.z_eval = np.concatenate([[0.0], 1.0 / self.q])"),
+    ("eq. (21) shear law width c doubled", "lookup/adhesion.py",
+     "return self.sigma_f0 * np.exp(-self.c * x * x)",
+     "return self.sigma_f0 * np.exp(-2.0 * self.c * x * x)"),
+    # -- FMU unit definitions (fmu_src/) ------------------------------------------------------
+    ("FMU degC display offset sign", "fmu_src/interface.py",
+     '"K": (("degC", 1.0, -273.15),),', '"K": (("degC", 1.0, 273.15),),'),
+    ("FMU rad/s base-unit exponent", "fmu_src/interface.py",
+     '"rad/s": {"rad": 1, "s": -1},', '"rad/s": {"rad": 1, "s": 1},'),
+    ("FMU N.m base-unit exponent", "fmu_src/interface.py",
+     '"N.m": {"kg": 1, "m": 2, "s": -2},', '"N.m": {"kg": 1, "m": 1, "s": -2},'),
+    ("FMU state error outside the TirefricError hierarchy", "fmu_src/state.py",
+     "class StateFormatError(TirefricError, ValueError):", "class StateFormatError(ValueError):"),
+    # -- tire and braking (tire_brush/) -------------------------------------------------------
+    ("slip defined on the rolling speed (omega R_e) instead of vx", "tire_brush/slip.py",
+     "kappa = (omega * R_e - vx) / ref",
+     "kappa = (omega * R_e - vx) / max(abs(omega * R_e), v_floor)"),
+    ("OCP objective: distance maximised", "tire_brush/braking/ocp.py",
+     "opti.minimize(Z[0, N] +", "opti.minimize(-Z[0, N] +"),
+]
+
+#: Test files run first (independent references; cheap); the rest follow in name order.
+FIRST = ["test_physics_reference.py", "test_fmu_units.py", "test_slip_kinematics.py",
+         "test_errors.py", "test_persson_engine.py"]
+
+IGNORE = shutil.ignore_patterns(".git", "*.egg-info", "__pycache__", ".pytest_cache",
+                                ".ruff_cache", "build", "dist")
+
+
+def check_patches(mutations: list[tuple[str, str, str, str]]) -> list[str]:
+    """Problems with the list: an ``old`` text not found exactly once, a no-op, a duplicate."""
+    problems = []
+    names = [m[0] for m in mutations]
+    for name, rel, old, new in mutations:
+        path = ROOT / rel
+        if names.count(name) > 1:
+            problems.append(f"{name}: duplicate name")
+        if old == new:
+            problems.append(f"{name}: old and new text are equal")
+        if not path.is_file():
+            problems.append(f"{name}: no file {rel}")
+            continue
+        n = path.read_text().count(old)
+        if n != 1:
+            problems.append(f"{name}: old text found {n} times in {rel} (must be exactly 1)")
+    return problems
+
+
+def copy_repo(dest: Path) -> Path:
+    """A copy of the working tree, importable as the package (``models`` also as
+    ``tirefric_models``, the name it is installed under)."""
+    shutil.copytree(ROOT, dest, ignore=IGNORE, symlinks=True)
+    (dest / "tirefric_models").symlink_to("models", target_is_directory=True)
+    return dest
+
+
+def environment(copy: Path) -> dict[str, str]:
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONDONTWRITEBYTECODE="1")
+    env["PYTHONPATH"] = os.pathsep.join([str(copy), str(copy / "tests")]
+                                        + ([env["PYTHONPATH"]] if env.get("PYTHONPATH")
+                                           else []))
+    return env
+
+
+def verify_imports(copy: Path) -> None:
+    """Fail unless the copy's packages are the ones imported with :func:`environment`."""
+    code = ("import lookup, tire_brush, fmu_src, tirefric_models, sys\n"
+            "for m in (lookup, tire_brush, fmu_src, tirefric_models):\n"
+            "    print(m.__file__)\n")
+    r = subprocess.run([sys.executable, "-c", code], cwd=copy, env=environment(copy),
+                       capture_output=True, text=True, check=True)
+    files = r.stdout.split()
+    outside = [f for f in files if not Path(f).resolve().is_relative_to(copy.resolve())]
+    if len(files) != 4 or outside:
+        raise SystemExit(f"the temporary copy is not the imported package: {files}")
+
+
+def test_files(copy: Path) -> list[str]:
+    rest = sorted(p.name for p in (copy / "tests").glob("test_*.py"))
+    first = [f for f in FIRST if f in rest]
+    return [f"tests/{f}" for f in first + [f for f in rest if f not in first]]
+
+
+def run_one(mutation: tuple[str, str, str, str], tmp: Path) -> tuple[str, bool, str, float]:
+    """Apply one mutation to a fresh copy and run the fast suite; (name, caught, by, s)."""
+    name, rel, old, new = mutation
+    t0 = time.perf_counter()
+    copy = copy_repo(tmp / re.sub(r"\W+", "_", name)[:60])
+    path = copy / rel
+    path.write_text(path.read_text().replace(old, new, 1))
+    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider",
+           "--no-header", "-rf", *test_files(copy)]
+    r = subprocess.run(cmd, cwd=copy, env=environment(copy), capture_output=True, text=True)
+    failed = re.findall(r"^(?:FAILED|ERROR) (\S+)", r.stdout, re.M)
+    caught = r.returncode != 0
+    if failed:
+        by = failed[0].removeprefix("tests/")
+    else:
+        by = f"pytest exit {r.returncode}" if caught else "-"
+    shutil.rmtree(copy, ignore_errors=True)
+    return name, caught, by, time.perf_counter() - t0
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("-k", default="", help="only mutations whose name contains this text")
+    ap.add_argument("-j", type=int, default=os.cpu_count() or 1, help="parallel runs")
+    ap.add_argument("--list", action="store_true", help="list the mutations and stop")
+    args = ap.parse_args(argv)
+    chosen = [m for m in MUTATIONS if args.k.lower() in m[0].lower()]
+    problems = check_patches(chosen)
+    if args.list:
+        for name, rel, _, _ in chosen:
+            print(f"{name:64s} {rel}")
+    if problems:
+        print("refusing to run:\n  " + "\n  ".join(problems), file=sys.stderr)
+        return 2
+    if args.list or not chosen:
+        return 0
+    with tempfile.TemporaryDirectory(prefix="tirefric-mut-") as d:
+        tmp = Path(d)
+        verify_imports(copy_repo(tmp / "import_check"))
+        with ThreadPoolExecutor(max(args.j, 1)) as pool:
+            rows = list(pool.map(lambda m: run_one(m, tmp), chosen))
+    w = max(len(r[0]) for r in rows)
+    print(f"{'mutation':{w}s}  caught  {'by (first failing test)':60s}  time")
+    for name, caught, by, t in rows:
+        print(f"{name:{w}s}  {'yes' if caught else 'NO':6s}  {by:60s}  {t:5.0f} s")
+    survived = [r[0] for r in rows if not r[1]]
+    print(f"{len(rows) - len(survived)}/{len(rows)} caught"
+          + (f"; SURVIVED: {', '.join(survived)}" if survived else ""))
+    return 1 if survived else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
