@@ -1,6 +1,6 @@
 """Benchmark of the braking studies: force-map build time and OCP solve time.
 
-Targets (issue 6): OCP solve <= 5 s for 200 collocation intervals. Run:
+Targets: OCP solve <= 5 s for 200 collocation intervals. Run:
 
     python benchmarks/bench_braking.py [--repeat 5] [--json]
 

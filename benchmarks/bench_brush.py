@@ -1,81 +1,110 @@
-"""Benchmarks of the brush tire (issue 4): steady-state point and transient step cost.
+"""Benchmarks of the brush tire: the compiled core against its Python reference.
 
-Run ``python benchmarks/bench_brush.py [--json] [--grid GRID]``.
+Run ``OMP_NUM_THREADS=1 taskset -c 0 python benchmarks/bench_brush.py [--json] [--grid G]``.
 
-* steady: median wall time of one operating point (``SteadyBrush.solve`` with scalars, the
-  default 64 cells; target <= 2 ms) and the cost per point of a 50-point curve solved in one
-  call (what ``tirefric tire curve`` and the braking force maps do);
-* transient: median wall time of one ``TransientBrushTire.step`` of 1 ms (one internal step)
-  at the default discretisation (100 elements on the patch, 1 ms internal step; target
-  <= 100 us), during combined braking and cornering with the thermal state and the compliant
-  belt on.
+Reports medians (one core):
 
-The friction is the shipped default grid when it exists (``--grid`` chooses another grid
-file or name), else a synthetic grid of the default spec's shape.
+* transient, one 1 ms step at the converged defaults (:data:`N_TRANSIENT` elements,
+  :data:`DT_INTERNAL` outer step, :data:`TOL`), braking at kappa -0.06, 27.8 m/s, 4 kN,
+  0 C (the case whose old answer depended on the solver): the core from C (no Python in
+  the loop: ``core_step.c``, compiled here), the core through ctypes
+  (``TransientBrushTire.step_array``), and the Python reference (same algorithm in Python
+  floats) with the ratio; plus the work (element sub-steps per 1 ms step);
+* four tires at 1 kHz from C: the real-time factor (simulated time / wall time);
+* steady: one operating point and the cost per point of a 50-point curve (one call).
+
+Targets: the core at <= 10 us per 1 ms step and >= 25x real time for four tires (not met:
+see docs/tire-core.md, "cost"). The friction is the shipped default grid (``--grid`` names
+another).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import shutil
+import struct
+import subprocess
+import tempfile
+from pathlib import Path
 
 import numpy as np
 from timing import median_time
 
-from lookup.grid import FrictionGrid
+from tire_brush import ccore
 from tire_brush.friction import BranchTable, GridFriction
 from tire_brush.params import load_tire
 from tire_brush.steady import SteadyBrush
-from tire_brush.transient import TransientBrushTire
+from tire_brush.transient import DT_INTERNAL, N_TRANSIENT, TOL, TransientBrushTire
+
+HERE = Path(__file__).parent
+#: The benchmark's operating point: vx [m/s], kappa, Fz [N], T [K].
+CASE = (27.8, -0.06, 4000.0, 273.15)
 
 
-def synthetic_grid() -> FrictionGrid:
-    """A smooth grid shaped like the default spec (61 speeds, 15 temperatures, 6 pressures)."""
-    v = np.logspace(-6, np.log10(40.0), 61)
-    T = np.linspace(253.15, 393.15, 15)
-    p = np.logspace(np.log10(5e4), np.log10(2e6), 6)
-    x = np.log10(v / 0.01)[:, None, None] - 0.05 * (T[None, :, None] - 293.15)
-    mu_c = 0.4 + 0.8 * np.exp(-0.1 * x * x) + 0.0 * p[None, None, :]
-    mu_h = mu_c * (1.0 - 0.3 * (v * v / (v * v + 0.01))[:, None, None])
-    dT = 60.0 * (v / (v + 1.0))[:, None, None] + 0.0 * mu_c
-    return FrictionGrid.from_arrays(v, T, p, {"mu_cold": mu_c, "mu_hot": mu_h, "dT_flash": dT},
-                                    s0_m=2e-4, D_m=1e-3)
-
-
-def load_friction(name: str | None) -> tuple[BranchTable, str]:
-    """The benchmark's friction table and a label."""
-    from lookup.grid import load_grid
-
-    if name is None:
-        try:
-            return BranchTable.from_model(GridFriction(load_grid("default"))), "default grid"
-        except Exception:  # no shipped grid yet: any failure falls back to the synthetic one
-            return BranchTable.from_model(GridFriction(synthetic_grid())), "synthetic grid"
-    return BranchTable.from_model(GridFriction(load_grid(name))), name
+def c_driver_times(model: TransientBrushTire, inputs: list[float], n_tires: int,
+                   n_steps: int = 400, n_warm: int = 200) -> tuple[float, float] | None:
+    """Median and 90th percentile [us] of stepping ``n_tires`` tires by 1 ms from C, or
+    None without a C compiler."""
+    cc = shutil.which("cc") or shutil.which("gcc")
+    if cc is None:
+        return None
+    t = model.table
+    with tempfile.TemporaryDirectory() as d:
+        exe = Path(d) / "core_step"
+        subprocess.run([cc, "-std=c99", "-O2", "-ffp-contract=off", "-I",
+                        str(ccore.SOURCE_DIR), "-o", str(exe), str(HERE / "core_step.c"),
+                        str(ccore.SOURCE_DIR / "tirecore.c"), "-lm"], check=True)
+        blob = struct.pack("3i", t.log10_v.size, t.T.size, t.log10_p.size)
+        for a in (t.log10_v, t.T, t.log10_p, t.values.reshape(-1), np.array([t.inv_s0])):
+            blob += np.ascontiguousarray(a, dtype=np.float64).tobytes()
+        blob += bytes(model._P)
+        blob += struct.pack("3i", n_warm, n_steps, n_tires)
+        blob += np.array([*inputs, 1e-3], dtype=np.float64).tobytes()
+        (Path(d) / "in.bin").write_bytes(blob)
+        out = subprocess.run([str(exe), str(Path(d) / "in.bin")], check=True,
+                             capture_output=True, text=True).stdout.split()
+    return float(out[0]), float(out[1])
 
 
 def run(grid: str | None = None) -> dict:
-    """Measure; returns the numbers (times in microseconds)."""
-    tire = load_tire("passenger")
-    table, label = load_friction(grid)
-    T = 293.15
-    steady = SteadyBrush(tire, table)
-    steady.solve(-0.05, 0.0, 20.0, 4000.0, T)
-    point = median_time(lambda: steady.solve(-0.05, 0.01, 20.0, 4000.0, T), 11, 5)
-    kappa = np.linspace(-0.3, 0.0, 50)
-    curve = median_time(lambda: steady.solve(kappa, 0.0, 20.0, 4000.0, T), 7, 2)
+    """Measure; times in microseconds."""
+    from lookup.grid import load_grid
 
+    tire = load_tire("passenger")
+    table = BranchTable.from_model(GridFriction(load_grid(grid or "default")))
+    vx, kappa, Fz, T = CASE
+    u = [vx, 0.0, vx * (1.0 + kappa) / tire.R_e, Fz, T, 1.0]
+    res: dict = {"grid": grid or "default", "case": {"vx": vx, "kappa": kappa, "Fz": Fz,
+                                                     "T_K": T},
+                 "defaults": {"n_elements": N_TRANSIENT, "dt_internal_s": DT_INTERNAL,
+                              "tol": TOL}}
     model = TransientBrushTire(tire, table)
-    omega = 20.0 * 0.95 / tire.R_e
     for _ in range(200):
-        model.step(1e-3, 20.0, 0.4, omega, 4000.0, T)
-    step = median_time(lambda: model.step(1e-3, 20.0, 0.4, omega, 4000.0, T), 15, 200)
-    return {"friction": label, "steady_point_us": point * 1e6,
-            "steady_curve_per_point_us": curve / kappa.size * 1e6,
-            "steady_n_elements": steady.n_elements,
-            "transient_step_us": step * 1e6, "transient_n_elements": model.n_elements,
-            "transient_dt_internal_s": model.dt_internal,
-            "targets_us": {"steady_point": 2000.0, "transient_step": 100.0}}
+        model.step_array(1e-3, *u)
+    w0 = model.work()
+    step = median_time(lambda: model.step_array(1e-3, *u), 15, 40)
+    res["substeps_per_step"] = (model.work() - w0) / (15 * 40 + 40)
+    res["core_ctypes_us"] = step * 1e6
+    c1 = c_driver_times(model, u, 1)
+    c4 = c_driver_times(model, u, 4)
+    if c1 is not None:
+        res["core_c_us"], res["core_c_p90_us"] = c1
+        res["four_tires_us"] = c4[0]
+        res["four_tires_realtime_factor"] = 1e3 / c4[0]
+    refm = TransientBrushTire(tire, table, backend="reference")
+    for _ in range(20):
+        refm.step_array(1e-3, *u)
+    res["reference_us"] = median_time(lambda: refm.step_array(1e-3, *u), 3, 2) * 1e6
+    res["reference_over_core"] = res["reference_us"] / res.get("core_c_us", step * 1e6)
+    steady = SteadyBrush(tire, table)
+    point = median_time(lambda: steady.solve(-0.05, 0.01, 20.0, 4000.0, 293.15), 11, 5)
+    k = np.linspace(-0.3, 0.0, 50)
+    curve = median_time(lambda: steady.solve(k, 0.0, 20.0, 4000.0, 293.15), 5, 2)
+    res["steady_point_us"] = point * 1e6
+    res["steady_curve_per_point_us"] = curve / k.size * 1e6
+    res["targets"] = {"core_us_per_step": 10.0, "four_tires_realtime_factor": 25.0}
+    return res
 
 
 def main() -> None:
@@ -83,16 +112,24 @@ def main() -> None:
     ap.add_argument("--json", action="store_true", help="print JSON")
     ap.add_argument("--grid", default=None, help="grid file or name (default: shipped)")
     args = ap.parse_args()
-    res = run(args.grid)
+    r = run(args.grid)
     if args.json:
-        print(json.dumps(res, indent=2))
+        print(json.dumps(r, indent=2))
         return
-    print(f"friction: {res['friction']}")
-    print(f"steady point ({res['steady_n_elements']} cells): {res['steady_point_us']:.0f} us "
-          f"(target <= 2000 us); per point of a 50-point curve: "
-          f"{res['steady_curve_per_point_us']:.0f} us")
-    print(f"transient step ({res['transient_n_elements']} elements, dt = 1 ms): "
-          f"{res['transient_step_us']:.0f} us (target <= 100 us)")
+    d = r["defaults"]
+    print(f"transient 1 ms step, {d['n_elements']} elements, outer step "
+          f"{d['dt_internal_s'] * 1e3:g} ms, tol {d['tol']:g} (0 C, kappa -0.06, 27.8 m/s):")
+    print(f"  element sub-steps per step: {r['substeps_per_step']:.0f}")
+    if "core_c_us" in r:
+        print(f"  core from C:      {r['core_c_us']:.0f} us (p90 {r['core_c_p90_us']:.0f}; "
+              f"target <= 10 us)")
+        print(f"  four tires from C: {r['four_tires_us']:.0f} us per 1 ms: "
+              f"{r['four_tires_realtime_factor']:.2f}x real time (target >= 25x)")
+    print(f"  core via ctypes:  {r['core_ctypes_us']:.0f} us")
+    print(f"  Python reference: {r['reference_us']:.0f} us ({r['reference_over_core']:.0f}x "
+          f"the core)")
+    print(f"steady point: {r['steady_point_us']:.0f} us; per point of a 50-point curve: "
+          f"{r['steady_curve_per_point_us']:.0f} us")
 
 
 if __name__ == "__main__":

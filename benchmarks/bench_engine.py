@@ -4,7 +4,7 @@ Run:  OMP_NUM_THREADS=1 taskset -c 0 python benchmarks/bench_engine.py [--repeat
 
 Reports medians for single-point calls (the CLI / API path) and the per-point cost inside a
 grid slice (one speed, all T x p, the grid builder's path), at the default resolution (which
-the resolution study shows to be within 0.3 % of a 4x finer run). Targets (issue 2): cold
+the resolution study shows to be within 0.3 % of a 4x finer run). Targets: cold
 <= 5 ms, hot <= 50 ms per point; a public Python implementation of the same equations takes
 5-8 s per point, so the ratio against 5 s is printed too.
 """
@@ -22,7 +22,7 @@ from lookup.compound import load_compound
 from lookup.friction import PerssonFriction
 from lookup.surface import load_surface
 
-PUBLIC_REFERENCE_S = 5.0  # lower end of the 5-8 s per point quoted in issue 2
+PUBLIC_REFERENCE_S = 5.0  # lower end of the 5-8 s per point quoted for public Persson implementations
 
 
 

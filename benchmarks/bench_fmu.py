@@ -8,7 +8,7 @@ fmpy's ``FMU2Slave`` step by step at a 1 ms communication step, as a vehicle sim
 set the six inputs, ``doStep``, get the outputs. The operating point is braking at 20 m/s with
 5 % slip and a 1 deg slip angle at 4 kN (part of the patch sliding).
 
-Reports (issue 5; target <= 200 us per doStep):
+Reports (target <= 200 us per doStep):
 
 * median and 90th percentile of ``fmi2DoStep`` alone, and of the whole cycle (setReal,
   doStep, getReal, getInteger) for one instance;

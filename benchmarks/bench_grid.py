@@ -1,4 +1,4 @@
-"""Benchmarks of the friction grids (issue 3): query speed and build throughput.
+"""Benchmarks of the friction grids: query speed and build throughput.
 
 Run ``python benchmarks/bench_grid.py [--json] [--build-slices N] [--full-build]``.
 

@@ -1,5 +1,5 @@
 """The brush tire on the shipped default grid (summer compound on asphalt): the cold/hot effect
-of eq. (28) in mu-slip curves, and the s0 limits (issue 4)."""
+of eq. (28) in mu-slip curves, and the s0 limits."""
 
 from __future__ import annotations
 

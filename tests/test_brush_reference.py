@@ -1,5 +1,5 @@
 """Pacejka's closed-form brush (tire_brush.reference) against its own known limits
-(physics-notes: stiffnesses, trail, sliding thresholds, static/kinetic reduction)."""
+(docs/review-notes.md: stiffnesses, trail, sliding thresholds, static/kinetic reduction)."""
 
 from __future__ import annotations
 

@@ -34,7 +34,7 @@ def _geometry(tire, Fz=FZ):
 
 def test_pure_slip_matches_pacejka(tire) -> None:
     """Constant friction, massless brush: Fx(kappa), Fy(alpha), Mz(alpha) within 1% of the peak
-    force (issue 4) of Pacejka's closed forms; discretisation error at 64 cells < 0.1%."""
+    force of Pacejka's closed forms; discretisation error at 64 cells < 0.1%."""
     mu = 0.9
     a, cpx, cpy = _geometry(tire)
     model = SteadyBrush(tire, ConstantFriction(mu), massless=True)
@@ -147,18 +147,17 @@ def test_mass_and_damping_change_constant_friction_little(tire) -> None:
 
 
 def test_convergence_with_element_count_velocity_weakening(tire) -> None:
-    """Peaked (velocity-weakening) friction with tread mass: the curve converges as cells are
-    refined (successive differences shrink); the massless brush does not settle near the
-    peak (physics-notes: ill posed on the falling branch)."""
+    """Peaked (velocity-weakening) friction with tread mass: the curve does not depend on
+    the number of cells."""
     friction = GridFriction(peaked_grid())
     kappa = np.array([-0.01, -0.03, -0.06, -0.1, -0.3])
     F = {n: SteadyBrush(tire, friction, n_elements=n).solve(kappa, 0.0, VX, FZ, T20).Fx / FZ
          for n in (32, 64, 128, 256)}
-    d1 = np.abs(F[64] - F[32]).max()
-    d2 = np.abs(F[128] - F[64]).max()
-    d3 = np.abs(F[256] - F[128]).max()
-    assert d3 < d1 and d3 < 0.05, f"no convergence with element count: {d1:.3f} {d2:.3f} {d3:.3f}"
-    assert np.abs(F[64] - F[256]).max() < 0.08, "default-like resolution within 8% of Fz"
+    # the force is the patch integral of the element's friction impulse (no sampling), so
+    # the cell count only places the diagnostics: every count gives the same force
+    for n in (32, 64, 128):
+        d = np.abs(F[n] - F[256]).max()
+        assert d < 2e-3, f"{n} cells differ from 256 by {d:.4f} Fz"
 
 
 def test_full_sliding_reaches_hot_branch(tire) -> None:

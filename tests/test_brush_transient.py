@@ -74,8 +74,9 @@ def test_rigid_carcass_buildup_matches_brush(tire) -> None:
     dt = 2.5e-4
     F = np.array([o.Fy for o in _run(tr, 200, dt, VX, -VX * math.tan(alpha),
                                      _omega(tire, 0.0))])
-    d = VX * dt * np.arange(1, F.size + 1)
-    dev = np.abs(F / F[-1] - ref.rigid_brush_buildup(d, a)).max()
+    # the outputs are the mean road force over each step: compare at the steps' midpoints
+    d = VX * dt * (np.arange(F.size) + 0.5)
+    dev = np.abs(F / F[-50:].mean() - ref.rigid_brush_buildup(d, a)).max()
     assert dev < 0.03, f"build-up deviates from the rigid brush by {dev:.3f}"
 
 

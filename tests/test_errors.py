@@ -21,6 +21,8 @@ def _exception_classes() -> list[type]:
     found = []
     for pkg in (lookup, tire_brush, fmu_src):
         for info in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + "."):
+            if info.name.endswith("._tirecore"):   # the compiled core: a C library, no module
+                continue
             mod = importlib.import_module(info.name)
             for _, cls in inspect.getmembers(mod, inspect.isclass):
                 if issubclass(cls, BaseException) and cls.__module__ == info.name:

@@ -154,7 +154,7 @@ def test_default_grid_reduced_speed_against_engine() -> None:
         print(f"{ti}: p95 {np.percentile(err, 95):.3%}, max {err.max():.3%}, "
               f"max inner {err[inner].max():.3%}")
     assert np.percentile(e["reduced_speed"], 95) < 5e-4
-    assert e["reduced_speed"][inner].max() < 2e-3, "target of issue 15: < 0.5 % off-node"
+    assert e["reduced_speed"][inner].max() < 2e-3, "target: < 0.5 % off-node"
     assert e["reduced_speed"].max() < 0.01 and e["linear"].max() > 0.01
 
 

@@ -127,7 +127,7 @@ def test_q1_below_q0_refused(tmp_path: Path) -> None:
 
 
 def test_missing_surface_table(tmp_path: Path) -> None:
-    """[macroasperity] is optional for a cold-only study; the hot branch names it (issue 15)."""
+    """[macroasperity] is optional for a cold-only study; the hot branch names it."""
     p = tmp_path / "s.toml"
     p.write_text(ASPHALT.replace("[macroasperity]\nD = \"1 mm\"", ""))
     m = PerssonFriction(load_compound("summer"), load_surface(p))

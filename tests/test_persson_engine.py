@@ -24,7 +24,7 @@ from lookup.roughness import CutoffRule
 from lookup.shift import WLF, Arrhenius
 
 
-# -- trap 1: the sign of Im E ---
+# -- docs/review-notes.md, trap 1: the sign of Im E ---
 def test_loss_modulus_sign_and_parity(single_relaxation: SingleRelaxation) -> None:
     w = np.logspace(-3, 8, 50)
     E = single_relaxation.complex_modulus(w)
@@ -45,7 +45,7 @@ def test_viscoelastic_friction_is_positive(compound, surface) -> None:
     assert (r.mu_visc > 0).all(), "mu_visc > 0 at every speed (loss sign pinned, trap 1)"
 
 
-# -- trap 2 and eq. (10): elastic limit ---
+# -- docs/review-notes.md, trap 2, and eq. (10): elastic limit ---
 def test_contact_area_elastic_limit_eq10() -> None:
     """With E real and constant, P(q1) = erf(sqrt(2) sigma0/(xi E*)) exactly (trap 2).
 

@@ -5,7 +5,7 @@ pressure ``p`` after having slipped a distance ``s`` since it entered the footpr
 
 .. math::  \mu = \mu_{cold}(v, T_0, p)\, e^{-s/s_0} + \mu_{hot}(v, T_0, p)\,(1 - e^{-s/s_0})
 
-(review eq. 28, physics-notes), with ``s0 ~ 0.2 D``, D the macroasperity contact diameter.
+(review eq. 28; docs/review-notes.md), with ``s0 ~ 0.2 D``, D the macroasperity contact diameter.
 
 Friction providers follow the small protocol :class:`FrictionModel` (``branches``, ``s0``,
 ``describe``). Adapters:

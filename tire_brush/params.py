@@ -275,7 +275,7 @@ class TireParams:
 
     def slip_stiffness(self, Fz: float) -> tuple[float, float]:
         """Rigid-carcass brush slip stiffnesses ``(C_Fkappa [N], C_Falpha [N/rad])`` at ``Fz``:
-        ``C_F = 2 c_p a^2`` with ``c_p = k b`` (Pacejka 2012, ch. 3; physics-notes)."""
+        ``C_F = 2 c_p a^2`` with ``c_p = k b`` (Pacejka 2012, ch. 3; docs/review-notes.md)."""
         a, b = self.patch.size(Fz)
         return 2.0 * self.tread.k_x * b * a * a, 2.0 * self.tread.k_y * b * a * a
 

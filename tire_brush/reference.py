@@ -4,7 +4,7 @@ Rigid carcass, parabolic pressure ``q_z(x) = 3 Fz / (4a) (1 - x^2/a^2)`` on ``-a
 tread stiffness ``c_p`` per unit length (per unit area times the width), friction ``mu``. These
 are the limits the numerical brush (:mod:`tire_brush.steady`, :mod:`tire_brush.transient`) must
 reproduce with constant friction; the formulas and their conventions are those listed in
-``physics-notes.md`` ("The brush model's closed forms"):
+docs/review-notes.md ("The brush model's closed forms"):
 
 * slip ``kappa = -V_sx / V_x``; theoretical slip ``sigma_x = kappa / (1 + kappa)``,
   ``sigma_y = tan(alpha) / (1 + kappa)``; an element stuck since the leading edge is deflected
@@ -94,7 +94,7 @@ def brush_static_kinetic(sigma: np.ndarray, mu_s: float, mu_k: float, Fz: float,
 
     ``F = 3 mu_s Fz lambda (1-lambda)^2 + mu_k Fz lambda^2 (3 - 2 lambda)`` with
     ``lambda = theta_s |sigma| < 1`` (``theta_s`` built with ``mu_s``), ``mu_k Fz`` beyond
-    (physics-notes; the adhesion region ends where ``c_p sigma (a - x) = mu_s q_z``, the
+    (docs/review-notes.md; the adhesion region ends where ``c_p sigma (a - x) = mu_s q_z``, the
     sliding region carries ``mu_k q_z``).
     """
     sigma = np.asarray(sigma, float)

@@ -1,6 +1,6 @@
 """Slip kinematics and the outputs of the brush models.
 
-Conventions (Pacejka 2012, ch. 2 and 3; physics-notes): wheel-centre velocity ``vx`` (in the
+Conventions (Pacejka 2012, ch. 2 and 3; docs/review-notes.md): wheel-centre velocity ``vx`` (in the
 wheel plane) and ``vy`` (lateral), spin ``omega``, effective rolling radius ``R_e``; rolling
 speed ``V_r = omega R_e``; slip velocity of the contact point ``V_sx = vx - V_r``,
 ``V_sy = vy``; longitudinal slip ``kappa = -V_sx / vx``, slip angle ``tan(alpha) = -vy / vx``.
