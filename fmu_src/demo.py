@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -114,8 +115,8 @@ def _tire_curves(grid, out: Path, log: DemoLog) -> Path:
     rows = []
     for ax, T in zip(np.atleast_1d(axes), CURVE_T_C, strict=True):
         for label, s0, style in (("eq. (28), s0 = 0.2 D", None, "-k"),
-                                 ("hot only (s0 -> 0)", 1e-9, "--r"),
-                                 ("cold only (s0 -> inf)", 1e6, "--b")):
+                                 ("hot only (s0 = 0)", 0.0, "--r"),
+                                 ("cold only (s0 = inf)", math.inf, "--b")):
             out_ = SteadyBrush(tire, GridFriction(grid, s0=s0)).solve(kappa, 0.0, vx, Fz,
                                                                        T + 273.15)
             mu = -out_.Fx / Fz

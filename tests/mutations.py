@@ -93,6 +93,23 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
      "kappa = (omega * R_e - vx) / max(abs(omega * R_e), v_floor)"),
     ("OCP objective: distance maximised", "tire_brush/braking/ocp.py",
      "opti.minimize(Z[0, N] +", "opti.minimize(-Z[0, N] +"),
+    # -- tire core (tire_brush/csrc/tirecore.c, what the models and the FMU run) -------------
+    ("tire core: eq. (28) with s0 halved", "tire_brush/csrc/tirecore.c",
+     "    S.inv_s0 = t->inv_s0;\n", "    S.inv_s0 = 2.0 * t->inv_s0;\n"),
+    ("tire core: element stick test reversed", "tire_brush/csrc/tirecore.c",
+     "if (S.G <= mu0 * S.pf) {", "if (S.G >= mu0 * S.pf) {"),
+    ("tire core: tread temperature heat source halved", "tire_brush/csrc/tirecore.c",
+     "(p->heat_fraction * Q + h", "(0.5 * p->heat_fraction * Q + h"),
+    ("tire core: elements enter at rest instead of with the belt",
+     "tire_brush/csrc/tirecore.c", "            e[2] = Vbx;\n            e[3] = Vby;\n",
+     "            e[2] = 0.0;\n            e[3] = 0.0;\n"),
+    ("tire core: belt sees no stiffness from sliding elements", "tire_brush/csrc/tirecore.c",
+     "        jx += kdx * rx;\n        jy += kdy * ry;\n",
+     "        jx += 0.0 * rx;\n        jy += 0.0 * ry;\n"),
+    ("tire core: triangular instead of parabolic pressure", "tire_brush/csrc/tirecore.c",
+     "double w = 1.0 - x * x * c->inv_a2;", "double w = 1.0 - fabs(x) * sqrt(c->inv_a2);"),
+    ("tire core: road force from the end-of-step friction only", "tire_brush/csrc/tirecore.c",
+     "Jx += H * ((1.0 - GAMMA) * o1.fx + GAMMA * o2.fx);", "Jx += H * o2.fx;"),
 ]
 
 #: Test files run first (independent references; cheap); the rest follow in name order.
@@ -100,7 +117,7 @@ FIRST = ["test_physics_reference.py", "test_fmu_units.py", "test_slip_kinematics
          "test_errors.py", "test_persson_engine.py"]
 
 IGNORE = shutil.ignore_patterns(".git", "*.egg-info", "__pycache__", ".pytest_cache",
-                                ".ruff_cache", "build", "dist")
+                                ".ruff_cache", "build", "dist", "_tirecore*")
 
 
 def check_patches(mutations: list[tuple[str, str, str, str]]) -> list[str]:
@@ -131,7 +148,11 @@ def copy_repo(dest: Path) -> Path:
 
 
 def environment(copy: Path) -> dict[str, str]:
-    env = dict(os.environ, MPLBACKEND="Agg", PYTHONDONTWRITEBYTECODE="1")
+    # the copy has no built tire core: it is compiled from the copy's (mutated) C sources
+    # into a cache inside the copy
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONDONTWRITEBYTECODE="1",
+               TIREFRIC_CACHE=str(copy / ".core-cache"))
+    env.pop("TIREFRIC_CORE", None)
     env["PYTHONPATH"] = os.pathsep.join([str(copy), str(copy / "tests")]
                                         + ([env["PYTHONPATH"]] if env.get("PYTHONPATH")
                                            else []))

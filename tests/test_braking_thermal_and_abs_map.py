@@ -133,7 +133,8 @@ def test_spec_reads_the_new_keys_and_refuses_misuse(tmp_path):
     spec = load_study("abs_default")
     assert spec.abs_slip_from_map and spec.fmu_abs and spec.ocp_starts == ("deceleration",
                                                                             "locked")
-    assert spec.fmu["dt_internal"] == pytest.approx(2e-5)
+    assert "dt_internal" not in spec.fmu, "the FMU runs at its own (converged) defaults"
+    assert spec.fmu["step"] == pytest.approx(1e-3)
     text = (models_dir() / "studies" / "abs_analytic.toml").read_text().replace(
         'vehicle = "vehicles/passenger.toml"', f'vehicle = "{VEHICLE.as_posix()}"\nfmu_abs = true')
     text += '\n[fmu]\ndt_intern = "1 ms"\n'
@@ -147,12 +148,19 @@ def test_spec_reads_the_new_keys_and_refuses_misuse(tmp_path):
     assert "fmu.dt_intern" in msg and "ocp.starts" in msg, msg
 
 
-def test_steady_cells_resolve_the_blending_length():
-    from tire_brush.braking.friction import CELLS_PER_S0, steady_cells
+def test_steady_cells_do_not_change_the_force():
+    """The braking maps' steady brush: the force is the patch integral of the friction, so
+    the default cell count gives the 1024-cell force (eq. (28)'s blending length s0 = 0.2 mm
+    is resolved by the element integration, not by the cells)."""
+    from tire_brush.braking.friction import steady_cells
     from tire_brush.params import load_tire
+    from tire_brush.steady import SteadyBrush
 
     tire = load_tire("passenger")
-    a, _ = tire.patch.size(tire.Fz_nom)
     n = steady_cells(tire, 2e-4)
-    assert 2 * a / n <= 2e-4 / CELLS_PER_S0 < 2 * a / (n - 1), "smallest n with dx <= s0/3"
-    assert steady_cells(tire, 1.0) == 64, "never below the steady model's default"
+    from lookup.grid.store import load_grid
+
+    grid = load_grid()
+    F = [float(SteadyBrush(tire, grid, n_elements=m).solve(-0.2, 0.0, 4.0, 4400.0, 293.15).Fx)
+         for m in (n, 1024)]
+    assert F[0] == pytest.approx(F[1], rel=2e-3), f"{n} cells vs 1024: {F}"

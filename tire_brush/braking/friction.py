@@ -206,30 +206,21 @@ def brush_fx_over_fz(steady_state: Callable, params: Any, friction: Any, *,
     return fx_over_fz
 
 
-#: Cells of the steady brush per blending length ``s0`` (:func:`steady_cells`).
-CELLS_PER_S0 = 3
-
 
 def steady_cells(params: Any, s0: float) -> int:
-    """Cells along the patch of the steady brush that resolve the blending length of eq. (28).
+    """Cells along the patch of the steady brush for the braking maps.
 
-    An element that starts to slide goes from cold to hot friction within a sliding distance
-    ``s0`` (0.2 mm on the default grid). A cell is one element step, so a cell much longer
-    than ``s0`` skips that transition and the peak of the mu-slip curve comes out too high.
-    Measured on the default grid (passenger tire, 20 C, 4 m/s, kappa = -0.2: ``-Fx/Fz`` by
-    cells ``n``, cell length ``dx = 2 a / n`` at 4.4 kN)::
-
-        n       64     256    1024   2048   4096
-        dx/s0   10.3   2.6    0.64   0.32   0.16
-        -Fx/Fz  1.48   1.45   1.35   1.32   1.30
-
-    ``dx <= s0 / 3`` (:data:`CELLS_PER_S0`) keeps the force within ~1 % of the 4096-cell
-    value: ``n = ceil(CELLS_PER_S0 * 2 a(Fz_nom) / s0)``, at least the steady model's default.
+    The steady model integrates each element with its own error-controlled steps, eq. (28)
+    along the slip path included, and reports the patch integral of the friction, so the
+    cell count only places its diagnostics: on the default grid (passenger tire, 20 C,
+    4 m/s, kappa = -0.2, 4.4 kN) ``-Fx/Fz`` is 1.2859, 1.2858, 1.2856, 1.2854 at 64, 256,
+    1024, 2048 cells (the blending length ``s0`` no longer sets the cell size). Returns the
+    steady model's default; ``params`` and ``s0`` are kept for the callers.
     """
     from tire_brush.steady import N_STEADY
 
-    a, _ = params.patch.size(params.Fz_nom)
-    return max(N_STEADY, math.ceil(CELLS_PER_S0 * 2.0 * a / s0))
+    del params, s0
+    return N_STEADY
 
 
 def brush_inputs(settings: Mapping[str, Any], case: Case, base_dir: Path) -> tuple[str, str]:
