@@ -19,7 +19,6 @@ and the folder of the study file (for relative paths), and returns a :class:`Fri
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
