@@ -22,7 +22,8 @@ from lookup.compound import load_compound
 from lookup.friction import PerssonFriction
 from lookup.surface import load_surface
 
-PUBLIC_REFERENCE_S = 5.0  # lower end of the 5-8 s per point quoted for public Persson implementations
+#: Lower end of the 5-8 s per point quoted for public Persson implementations.
+PUBLIC_REFERENCE_S = 5.0
 
 
 
