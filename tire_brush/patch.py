@@ -4,7 +4,8 @@ The patch half-length ``a`` and width ``b`` follow :class:`~tire_brush.params.Pa
 (Pacejka 2012, eqs. (A3.7)-(A3.8)). Along the patch the vertical load is distributed
 parabolically, ``q_z(x) = 3 Fz / (4a) (1 - x^2/a^2)`` (Pacejka 2012, ch. 3;
 docs/review-notes.md), and uniformly across the width, so the nominal (gross-footprint)
-pressure is ``q_z(x) / b``. The pressure on the rubber, which the friction tables are read at, is ``p / (1 - void_ratio)``.
+pressure is ``q_z(x) / b``. The pressure on the rubber, which the friction tables are read at,
+is ``p / (1 - void_ratio)``.
 
 On a discrete set of elements the parabola is sampled at the element positions and scaled so
 that the element pressures add up to ``Fz`` exactly (then full sliding gives exactly
