@@ -32,6 +32,7 @@ from tire_brush.params import (
     ThermalParams,
     TireParams,
     TreadParams,
+    field_table,
 )
 
 #: Model name and FMI model identifier (name of the binary inside the FMU).
@@ -142,35 +143,10 @@ OUTPUTS: tuple[tuple[str, str, str], ...] = (
      "tire.thermal.enabled is false"),
 )
 
-#: Tire parameters (fields of TireParams): dotted field path -> (unit, description). Boolean
-#: fields have unit None.
-TIRE_FIELDS: dict[str, tuple[str | None, str]] = {
-    "R_e": ("m", "Effective rolling radius [m]: the rolling speed is omega * R_e"),
-    "Fz_nom": ("N", "Nominal load [N]: the tread elements are spaced on the patch at this load"),
-    "patch.R0": ("m", "Unloaded radius [m] (patch-size law, Pacejka 2012 eqs. (A3.7)-(A3.8))"),
-    "patch.width": ("m", "Nominal section width W [m] (patch-width law)"),
-    "patch.C_z": ("N/m", "Vertical stiffness [N/m] (deflection Fz / C_z of the patch laws)"),
-    "patch.q_ra1": ("1", "Square-root coefficient of the patch-length law [1]"),
-    "patch.q_ra2": ("1", "Linear coefficient of the patch-length law [1]"),
-    "patch.q_rb1": ("1", "Cube-root coefficient of the patch-width law [1]"),
-    "patch.q_rb2": ("1", "Linear coefficient of the patch-width law [1]"),
-    "patch.Fz_max": ("N", "Load [N] above which the patch keeps its size"),
-    "tread.k_x": ("N/m3", "Longitudinal tread shear stiffness per unit footprint area [N/m3]"),
-    "tread.k_y": ("N/m3", "Lateral tread shear stiffness per unit footprint area [N/m3]"),
-    "tread.mass": ("kg/m2", "Tread element tip mass per unit footprint area [kg/m2]"),
-    "tread.d_x": ("N.s/m3", "Longitudinal tread damping per unit footprint area [N.s/m3]"),
-    "tread.d_y": ("N.s/m3", "Lateral tread damping per unit footprint area [N.s/m3]"),
-    "tread.void_ratio": ("1", "Groove (void) fraction of the footprint [1]"),
-    "carcass.rigid": (None, "Rigid carcass: no belt deflection"),
-    "carcass.k_x": ("N/m", "Longitudinal belt (carcass) stiffness [N/m]"),
-    "carcass.k_y": ("N/m", "Lateral belt (carcass) stiffness [N/m]"),
-    "carcass.d_x": ("N.s/m", "Longitudinal belt (carcass) damping [N.s/m]"),
-    "carcass.d_y": ("N.s/m", "Lateral belt (carcass) damping [N.s/m]"),
-    "thermal.enabled": (None, "Carry the lumped tread temperature (else T_tread = T_surface)"),
-    "thermal.heat_capacity": ("J/K", "Heat capacity of the tread [J/K]"),
-    "thermal.conductance": ("W/K", "Heat conductance from the tread to the surroundings [W/K]"),
-    "thermal.heat_fraction": ("1", "Fraction of the frictional heat entering the tread [1]"),
-}
+#: Tire parameters (fields of TireParams): dotted field path -> (unit, description), read from
+#: the fields' metadata in tire_brush.params (one source of truth). Boolean fields have unit
+#: None.
+TIRE_FIELDS: dict[str, tuple[str | None, str]] = field_table()
 
 #: Parameter groups of TireParams and their classes.
 _GROUPS: dict[str, type] = {"patch": PatchLaw, "tread": TreadParams, "carcass": CarcassParams,

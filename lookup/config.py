@@ -47,6 +47,12 @@ UNITS: dict[str, dict[str, tuple[float, float]]] = {
     "force": {"N": (1.0, 0.0), "kN": (1e3, 0.0)},
     "stiffness_per_area": {"N/m^3": (1.0, 0.0), "N/mm^3": (1e9, 0.0)},
     "stiffness": {"N/m": (1.0, 0.0), "N/mm": (1e3, 0.0)},
+    # tire parameters (tire_brush/params.py)
+    "mass_per_area": {"kg/m^2": (1.0, 0.0), "": (1.0, 0.0)},
+    "damping_per_area": {"N s/m^3": (1.0, 0.0), "Pa s/m": (1.0, 0.0), "": (1.0, 0.0)},
+    "damping": {"N s/m": (1.0, 0.0), "kN s/m": (1e3, 0.0), "": (1.0, 0.0)},
+    "heat_capacity_total": {"J/K": (1.0, 0.0), "kJ/K": (1e3, 0.0), "": (1.0, 0.0)},
+    "conductance": {"W/K": (1.0, 0.0), "": (1.0, 0.0)},
     "mass": {"kg": (1.0, 0.0)},
     "inertia": {"kg m^2": (1.0, 0.0)},
     "angle": {"rad": (1.0, 0.0), "deg": (math.pi / 180.0, 0.0)},

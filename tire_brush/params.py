@@ -26,7 +26,7 @@ from lookup.errors import InputError, InputErrors
 
 
 def _check(obj: object, name: str, *, positive: bool = False, nonnegative: bool = False,
-           below: float | None = None, problems: list[InputError]) -> None:
+           maximum: float | None = None, problems: list[InputError]) -> None:
     """Append an :class:`InputError` to ``problems`` if field ``name`` of ``obj`` is bad."""
     x = getattr(obj, name)
     where = f"{type(obj).__name__}.{name}"
@@ -37,8 +37,36 @@ def _check(obj: object, name: str, *, positive: bool = False, nonnegative: bool 
         problems.append(InputError("must be > 0", field=where, value=x))
     if nonnegative and not x >= 0:
         problems.append(InputError("must be >= 0", field=where, value=x))
-    if below is not None and not x < below:
-        problems.append(InputError(f"must be < {below:g}", field=where, value=x))
+    if maximum is not None and not x <= maximum:
+        problems.append(InputError(f"must be <= {maximum:g}", field=where, value=x))
+
+
+def _param(unit: str | None, dimension: str | None, description: str, *,
+           positive: bool = False, nonnegative: bool = False,
+           maximum: float | None = None, toml_default: bool | None = None) -> object:
+    """A parameter field carrying, once, what every user of it needs: the FMU unit (``None``
+    for a boolean), the dimension of :data:`lookup.config.UNITS` the TOML value is read in,
+    the description (FMU variable table, docs) and the bounds (validation, TOML loader)."""
+    return field(metadata={"unit": unit, "dimension": dimension, "description": description,
+                           "bounds": {"positive": positive, "nonnegative": nonnegative,
+                                      "maximum": maximum}, "toml_default": toml_default})
+
+
+def _validate(obj: object) -> list[InputError]:
+    """Problems of the number fields of ``obj`` against their metadata bounds."""
+    problems: list[InputError] = []
+    for f in fields(obj):
+        if f.metadata.get("unit") is None:
+            continue
+        b = f.metadata["bounds"]
+        _check(obj, f.name, positive=b["positive"], nonnegative=b["nonnegative"],
+               maximum=b["maximum"], problems=problems)
+    return problems
+
+
+def parameter_fields(cls: type) -> list:
+    """The parameter fields (with metadata) of a parameter class, in order."""
+    return [f for f in fields(cls) if "description" in f.metadata]
 
 
 def _raise(problems: list[InputError]) -> None:
@@ -75,22 +103,25 @@ class PatchLaw:
         Load up to which the law is used [N]; the law must give a growing patch up to it.
     """
 
-    R0: float
-    width: float
-    C_z: float
-    q_ra1: float
-    q_ra2: float
-    q_rb1: float
-    q_rb2: float
-    Fz_max: float
+    R0: float = _param(
+        "m", "length", "Unloaded radius [m] (patch-size law, Pacejka 2012 eqs. (A3.7)-(A3.8))",
+        positive=True)
+    width: float = _param(
+        "m", "length", "Nominal section width W [m] (patch-width law)", positive=True)
+    C_z: float = _param(
+        "N/m", "stiffness", "Vertical stiffness [N/m] (deflection Fz / C_z of the patch laws)",
+        positive=True)
+    q_ra1: float = _param(
+        "1", "dimensionless", "Square-root coefficient of the patch-length law [1]", positive=True)
+    q_ra2: float = _param("1", "dimensionless", "Linear coefficient of the patch-length law [1]")
+    q_rb1: float = _param(
+        "1", "dimensionless", "Cube-root coefficient of the patch-width law [1]", positive=True)
+    q_rb2: float = _param("1", "dimensionless", "Linear coefficient of the patch-width law [1]")
+    Fz_max: float = _param(
+        "N", "force", "Load [N] above which the patch keeps its size", positive=True)
 
     def __post_init__(self) -> None:
-        problems: list[InputError] = []
-        for f in ("R0", "width", "C_z", "q_ra1", "q_rb1", "Fz_max"):
-            _check(self, f, positive=True, problems=problems)
-        for f in ("q_ra2", "q_rb2"):
-            _check(self, f, problems=problems)
-        _raise(problems)
+        _raise(_validate(self))
         # the laws must give a positive patch that grows with the load up to Fz_max
         prev_a = prev_b = 0.0
         for i in range(1, 65):
@@ -135,21 +166,27 @@ class TreadParams:
         pressure on the rubber, ``p / (1 - void_ratio)``.
     """
 
-    k_x: float
-    k_y: float
-    mass: float
-    d_x: float
-    d_y: float
-    void_ratio: float
+    k_x: float = _param(
+        "N/m3", "stiffness_per_area",
+        "Longitudinal tread shear stiffness per unit footprint area [N/m3]", positive=True)
+    k_y: float = _param(
+        "N/m3", "stiffness_per_area",
+        "Lateral tread shear stiffness per unit footprint area [N/m3]", positive=True)
+    mass: float = _param(
+        "kg/m2", "mass_per_area", "Tread element tip mass per unit footprint area [kg/m2]",
+        nonnegative=True)
+    d_x: float = _param(
+        "N.s/m3", "damping_per_area", "Longitudinal tread damping per unit footprint area [N.s/m3]",
+        nonnegative=True)
+    d_y: float = _param(
+        "N.s/m3", "damping_per_area", "Lateral tread damping per unit footprint area [N.s/m3]",
+        nonnegative=True)
+    void_ratio: float = _param(
+        "1", "dimensionless", "Groove (void) fraction of the footprint [1]", nonnegative=True,
+        maximum=0.9)
 
     def __post_init__(self) -> None:
-        problems: list[InputError] = []
-        for f in ("k_x", "k_y"):
-            _check(self, f, positive=True, problems=problems)
-        for f in ("mass", "d_x", "d_y"):
-            _check(self, f, nonnegative=True, problems=problems)
-        _check(self, "void_ratio", nonnegative=True, below=0.95, problems=problems)
-        _raise(problems)
+        _raise(_validate(self))
 
     @property
     def isotropic(self) -> bool:
@@ -176,19 +213,17 @@ class CarcassParams:
         Longitudinal and lateral damping [N s/m].
     """
 
-    rigid: bool
-    k_x: float
-    k_y: float
-    d_x: float
-    d_y: float
+    rigid: bool = _param(None, None, "Rigid carcass: no belt deflection", toml_default=False)
+    k_x: float = _param(
+        "N/m", "stiffness", "Longitudinal belt (carcass) stiffness [N/m]", positive=True)
+    k_y: float = _param("N/m", "stiffness", "Lateral belt (carcass) stiffness [N/m]", positive=True)
+    d_x: float = _param(
+        "N.s/m", "damping", "Longitudinal belt (carcass) damping [N.s/m]", nonnegative=True)
+    d_y: float = _param(
+        "N.s/m", "damping", "Lateral belt (carcass) damping [N.s/m]", nonnegative=True)
 
     def __post_init__(self) -> None:
-        problems: list[InputError] = []
-        for f in ("k_x", "k_y"):
-            _check(self, f, positive=True, problems=problems)
-        for f in ("d_x", "d_y"):
-            _check(self, f, nonnegative=True, problems=problems)
-        _raise(problems)
+        _raise(_validate(self))
 
 
 @dataclass(frozen=True)
@@ -210,20 +245,19 @@ class ThermalParams:
         Fraction eta of the frictional heat that enters the tread [1].
     """
 
-    enabled: bool
-    heat_capacity: float
-    conductance: float
-    heat_fraction: float
+    enabled: bool = _param(
+        None, None, "Carry the lumped tread temperature (else T_tread = T_surface)")
+    heat_capacity: float = _param(
+        "J/K", "heat_capacity_total", "Heat capacity of the tread [J/K]", positive=True)
+    conductance: float = _param(
+        "W/K", "conductance", "Heat conductance from the tread to the surroundings [W/K]",
+        nonnegative=True)
+    heat_fraction: float = _param(
+        "1", "dimensionless", "Fraction of the frictional heat entering the tread [1]",
+        nonnegative=True, maximum=1.0)
 
     def __post_init__(self) -> None:
-        problems: list[InputError] = []
-        _check(self, "heat_capacity", positive=True, problems=problems)
-        _check(self, "conductance", nonnegative=True, problems=problems)
-        _check(self, "heat_fraction", nonnegative=True, problems=problems)
-        if isinstance(self.heat_fraction, int | float) and self.heat_fraction > 1:
-            problems.append(InputError("must be <= 1", field="ThermalParams.heat_fraction",
-                                       value=self.heat_fraction))
-        _raise(problems)
+        _raise(_validate(self))
 
 
 @dataclass(frozen=True)
@@ -253,8 +287,12 @@ class TireParams:
     """
 
     name: str
-    R_e: float
-    Fz_nom: float
+    R_e: float = _param(
+        "m", "length", "Effective rolling radius [m]: the rolling speed is omega * R_e",
+        positive=True)
+    Fz_nom: float = _param(
+        "N", "force", "Nominal load [N]: the tread elements are spaced on the patch at this load",
+        positive=True)
     patch: PatchLaw
     tread: TreadParams
     carcass: CarcassParams
@@ -264,10 +302,7 @@ class TireParams:
     source: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
-        problems: list[InputError] = []
-        _check(self, "R_e", positive=True, problems=problems)
-        _check(self, "Fz_nom", positive=True, problems=problems)
-        _raise(problems)
+        _raise(_validate(self))
         if self.Fz_nom > self.patch.Fz_max:
             raise InputError(f"nominal load above the patch law's Fz_max = "
                              f"{self.patch.Fz_max:g} N", field="TireParams.Fz_nom",
@@ -290,44 +325,7 @@ class TireParams:
 
 
 # -- TOML -------------------------------------------------------------------------------------
-#: Units this module accepts for dimensions that lookup.config does not know.
-_EXTRA_UNITS: dict[str, dict[str, float]] = {
-    "mass_per_area": {"kg/m^2": 1.0, "": 1.0},
-    "damping_per_area": {"N s/m^3": 1.0, "Pa s/m": 1.0, "": 1.0},
-    "damping": {"N s/m": 1.0, "kN s/m": 1e3, "": 1.0},
-    "heat_capacity_total": {"J/K": 1.0, "kJ/K": 1e3, "": 1.0},
-    "conductance": {"W/K": 1.0, "": 1.0},
-}
-
-
-def _quantity(t, key: str, dimension: str, **bounds) -> float:
-    """Read ``key`` of table ``t`` in SI, also for the dimensions of :data:`_EXTRA_UNITS`."""
-    from lookup.config import check_number
-
-    if dimension not in _EXTRA_UNITS:
-        return t.quantity(key, dimension, **bounds)
-    value = t.raw(key)
-    if isinstance(value, bool):
-        raise t.error(key, "expected a number", value)
-    if isinstance(value, int | float):
-        x = float(value)
-    elif isinstance(value, str):
-        parts = value.strip().split(None, 1)
-        try:
-            number = float(parts[0])
-        except (ValueError, IndexError):
-            raise t.error(key, "expected a number or '<number> <unit>'", value) from None
-        unit = parts[1].strip() if len(parts) > 1 else ""
-        units = _EXTRA_UNITS[dimension]
-        if unit not in units:
-            known = ", ".join(u for u in units if u)
-            raise t.error(key, f"unknown unit '{unit}' for a {dimension.replace('_', ' ')} "
-                               f"(known: {known})", value)
-        x = number * units[unit]
-    else:
-        raise t.error(key, "expected a number or '<number> <unit>'", value)
-    check_number(x, lambda msg: t.error(key, msg, value), **bounds)
-    return x
+# Units of every field come from the one unit table, lookup.config.UNITS.
 
 
 def load_tire(name_or_path: str | Path) -> TireParams:
@@ -344,39 +342,14 @@ def load_tire(name_or_path: str | Path) -> TireParams:
     name = t.string("name")
     description = t.string("description", "")
     provenance = t.string("provenance", "")
-    R_e = t.quantity("R_e", "length", positive=True)
-    Fz_nom = t.quantity("Fz_nom", "force", positive=True)
-
-    g = t.table("patch")
-    patch = _build(g, PatchLaw, R0=g.quantity("R0", "length", positive=True),
-                   width=g.quantity("width", "length", positive=True),
-                   C_z=g.quantity("C_z", "stiffness", positive=True),
-                   q_ra1=g.quantity("q_ra1", "dimensionless", positive=True),
-                   q_ra2=g.quantity("q_ra2", "dimensionless"),
-                   q_rb1=g.quantity("q_rb1", "dimensionless", positive=True),
-                   q_rb2=g.quantity("q_rb2", "dimensionless"),
-                   Fz_max=g.quantity("Fz_max", "force", positive=True))
-    r = t.table("tread")
-    tread = _build(r, TreadParams, k_x=r.quantity("k_x", "stiffness_per_area", positive=True),
-                   k_y=r.quantity("k_y", "stiffness_per_area", positive=True),
-                   mass=_quantity(r, "mass", "mass_per_area", nonnegative=True),
-                   d_x=_quantity(r, "d_x", "damping_per_area", nonnegative=True),
-                   d_y=_quantity(r, "d_y", "damping_per_area", nonnegative=True),
-                   void_ratio=r.quantity("void_ratio", "dimensionless", nonnegative=True,
-                                         maximum=0.9))
-    c = t.table("carcass")
-    carcass = _build(c, CarcassParams, rigid=c.boolean("rigid", False),
-                     k_x=c.quantity("k_x", "stiffness", positive=True),
-                     k_y=c.quantity("k_y", "stiffness", positive=True),
-                     d_x=_quantity(c, "d_x", "damping", nonnegative=True),
-                     d_y=_quantity(c, "d_y", "damping", nonnegative=True))
-    h = t.table("thermal")
-    thermal = _build(h, ThermalParams, enabled=h.boolean("enabled"),
-                     heat_capacity=_quantity(h, "heat_capacity", "heat_capacity_total",
-                                             positive=True),
-                     conductance=_quantity(h, "conductance", "conductance", nonnegative=True),
-                     heat_fraction=h.quantity("heat_fraction", "dimensionless",
-                                              nonnegative=True, maximum=1.0))
+    R_e, Fz_nom = (_read(t, f) for f in parameter_fields(TireParams))
+    groups = {}
+    for name_, cls in (("patch", PatchLaw), ("tread", TreadParams), ("carcass", CarcassParams),
+                       ("thermal", ThermalParams)):
+        tab = t.table(name_)
+        groups[name_] = (tab, _build(tab, cls, **{f.name: _read(tab, f)
+                                                  for f in parameter_fields(cls)}))
+    (g, patch), (r, tread), (c, carcass), (h, thermal) = groups.values()
     for tab in (g, r, c, h):
         tab.check_unknown()
     t.check_unknown()
@@ -386,6 +359,30 @@ def load_tire(name_or_path: str | Path) -> TireParams:
                           provenance=provenance, source=str(path))
     except InputError as exc:
         raise InputError(exc.message, source=path, field=exc.field, value=exc.value) from None
+
+
+def field_table() -> dict[str, tuple[str | None, str]]:
+    """Every tire parameter: dotted path (``"tread.k_x"``) -> (FMU unit, description), from the
+    fields' metadata (the FMU's variable table and the docs read it here)."""
+    out: dict[str, tuple[str | None, str]] = {}
+    for f in parameter_fields(TireParams):
+        out[f.name] = (f.metadata["unit"], f.metadata["description"])
+    for group, cls in (("patch", PatchLaw), ("tread", TreadParams), ("carcass", CarcassParams),
+                       ("thermal", ThermalParams)):
+        for f in parameter_fields(cls):
+            out[f"{group}.{f.name}"] = (f.metadata["unit"], f.metadata["description"])
+    return out
+
+
+def _read(tab, f):
+    """Field ``f`` of a parameter class from TOML table ``tab``, by its metadata (dimension,
+    bounds; a boolean may have a default)."""
+    m = f.metadata
+    if m["unit"] is None:
+        return tab.boolean(f.name, *(() if m["toml_default"] is None else (m["toml_default"],)))
+    b = m["bounds"]
+    return tab.quantity(f.name, m["dimension"], positive=b["positive"],
+                        nonnegative=b["nonnegative"], maximum=b["maximum"])
 
 
 def _build(table, cls, **kwargs):
