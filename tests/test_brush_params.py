@@ -66,3 +66,19 @@ def test_dataclass_validation_reports_all_problems() -> None:
     with pytest.raises(InputError, match="Fz_nom"):
         dataclasses.replace(t, Fz_nom=2e4)
     assert isinstance(t, TireParams) and isinstance(t.patch, PatchLaw)
+
+
+def test_parameter_docs_are_written_from_the_fields() -> None:
+    """docs/tire-parameters.md is the table the fields' metadata gives (one source of truth:
+    the loader, the validation and the FMU read the same metadata)."""
+    from pathlib import Path
+
+    from fmu_src.interface import TIRE_FIELDS
+    from tire_brush.params import field_table, parameters_markdown
+
+    doc = Path(__file__).parents[1] / "docs" / "tire-parameters.md"
+    assert doc.read_text() == parameters_markdown(), "regenerate docs/tire-parameters.md"
+    assert TIRE_FIELDS == field_table()
+    for path, (unit, desc) in field_table().items():
+        assert f"`{path}`" in doc.read_text() and desc in doc.read_text()
+        assert unit is None or unit in desc, f"{path}: the description names its unit"

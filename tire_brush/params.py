@@ -374,6 +374,30 @@ def field_table() -> dict[str, tuple[str | None, str]]:
     return out
 
 
+def parameters_markdown() -> str:
+    """docs/tire-parameters.md: the table of tire parameters, written from the fields'
+    metadata (``python -c "from tire_brush.params import parameters_markdown as m;
+    print(m(), end='')" > docs/tire-parameters.md``; a test keeps the file equal to it)."""
+    lines = ["# Tire parameters", "",
+             "Written from the fields of `tire_brush/params.py` (their metadata is the one "
+             "source of the unit, the bounds and the description: the TOML loader, the "
+             "validation and the FMU's variables read it too). TOML files under "
+             "`models/tires/` give each as a number in SI or as `\"<number> <unit>\"`.", "",
+             "| parameter | unit | bounds | description |", "|---|---|---|---|"]
+    classes = {"": TireParams, "patch.": PatchLaw, "tread.": TreadParams,
+               "carcass.": CarcassParams, "thermal.": ThermalParams}
+    for prefix, cls in classes.items():
+        for f in parameter_fields(cls):
+            m = f.metadata
+            b = m["bounds"]
+            bounds = ", ".join(t for t in (
+                "> 0" if b["positive"] else "", ">= 0" if b["nonnegative"] else "",
+                f"<= {b['maximum']:g}" if b["maximum"] is not None else "") if t)
+            unit = "true/false" if m["unit"] is None else m["unit"]
+            lines.append(f"| `{prefix}{f.name}` | {unit} | {bounds} | {m['description']} |")
+    return "\n".join(lines) + "\n"
+
+
 def _read(tab, f):
     """Field ``f`` of a parameter class from TOML table ``tab``, by its metadata (dimension,
     bounds; a boolean may have a default)."""
