@@ -72,6 +72,11 @@ STATE_VERSION = 2
 LN10 = 2.302585092994046
 
 
+def _norm2(x: float, y: float) -> float:
+    """``sqrt(x^2 + y^2)``, as the core computes it (``math.hypot`` rounds differently)."""
+    return math.sqrt(x * x + y * y)
+
+
 class RefTable:
     """Friction table on (log10 v, T, log10 p), as the core holds it.
 
@@ -209,6 +214,18 @@ class _Stage:
         self.P, self.E, self.dT = P, E, dT
         return R, d
 
+    def node_resid(self, j: int) -> float:
+        """R at speed node ``j`` from the node's values alone (no interpolation)."""
+        n = self.t.node(self.q, j)
+        V = self.t.vnode[j]
+        E = math.exp(-(self.Zs + self.Hs * V) * self.inv_s0) if self.inv_s0 > 0.0 else 1.0
+        P = self.pf * (n[1] + (n[0] - n[1]) * E)
+        if self.iso:
+            return (self.Ax * V + P) / self.G - 1.0
+        rx = self.gx / (self.Ax * V + P)
+        ry = self.gy / (self.Ay * V + P)
+        return 1.0 / math.sqrt(rx * rx + ry * ry) - 1.0
+
     def solve_cell(self, lo: float, hi: float, x: float, r: float, d: float) -> float:
         """Root in ``[lo, hi]`` (``R(lo) < 0 <= R(hi)``) by Newton's method from ``x``
         (``R(x) = r``, ``R'(x) = d``) safeguarded by bisection; returns the last point
@@ -278,7 +295,7 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
     S.Ay = mdt + kdy
     S.gx = mdt * Zwx - c.kx * Zux + kdx * c.Vbx
     S.gy = mdt * Zwy - c.ky * Zuy + kdy * c.Vby
-    S.G = math.hypot(S.gx, S.gy)
+    S.G = _norm2(S.gx, S.gy)
     S.pf = c.mu_scale * p
     S.Zs = Zs
     S.Hs = Hs
@@ -336,13 +353,23 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
                 r_ub, d_ub = S.resid(ub)
                 V = S.solve_cell(lo, ub, ub, r_ub, d_ub) if r_ub >= 0.0 else V_hi
                 break
-            # R is continuous across a node: read it there with the next cell's slope
-            S.set_cell(S.cell + 1)
-            r_ub, d_ub = S.resid(ub)
-            if r_ub >= 0.0:
-                V = S.solve_cell(lo, ub, ub, r_ub, d_ub)
+            # walk the nodes above from their values alone (R is continuous across a node)
+            # up to the first where R >= 0, or to the cell that holds V_hi
+            j = S.cell + 1
+            rj = S.node_resid(j)
+            while rj < 0.0 and j + 1 <= nv - 1 and t.vnode[j + 1] < V_hi:
+                j += 1
+                rj = S.node_resid(j)
+            if rj >= 0.0:                       # the root is in [vnode[j-1], vnode[j]]
+                if j - 1 != S.cell:
+                    S.set_cell(j - 1)
+                    lo = t.vnode[j - 1]
+                r_, d_ = S.resid(t.vnode[j])
+                V = S.solve_cell(lo, t.vnode[j], t.vnode[j], r_, d_)
                 break
-            lo, r, d = ub, r_ub, d_ub
+            S.set_cell(j)                       # R < 0 up to node j: go on in cell j
+            lo = t.vnode[j]
+            r, d = S.resid(lo)
     elif r > 0.0:                               # decelerating: the first root below
         hi = Vs
         while True:
@@ -368,12 +395,22 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
             if S.cell < 0:                      # R(0) < 0: the stick test failed
                 V = S.solve_cell(0.0, hi, hi, r, d)
                 break
-            S.set_cell(S.cell - 1)
-            r_lb, d_lb = S.resid(lb)
-            if r_lb < 0.0:
-                V = S.solve_cell(lb, hi, lb, r_lb, d_lb)
+            # walk the nodes below from their values alone down to the first where R < 0
+            j = S.cell
+            rj = S.node_resid(j)
+            while rj >= 0.0 and j > 0:
+                j -= 1
+                rj = S.node_resid(j)
+            if rj < 0.0:                        # the root is in [vnode[j], vnode[j+1]]
+                if j != S.cell:
+                    S.set_cell(j)
+                    hi = t.vnode[j + 1]
+                r_, d_ = S.resid(t.vnode[j])
+                V = S.solve_cell(t.vnode[j], hi, t.vnode[j], r_, d_)
                 break
-            hi, r, d = lb, r_lb, d_lb
+            S.set_cell(-1)                      # R >= 0 down to the first node
+            hi = t.vnode[0]
+            r, d = S.resid(hi)
     else:
         V = Vs
     P = S.P
@@ -409,7 +446,7 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
     energy = steps = Jx = Jy = Jm = 0.0
     g1 = (1.0 - GAMMA) / GAMMA
     ig = 1.0 / GAMMA
-    o2 = (0.0, 0.0, 0.0, 0.0, 0.0, math.hypot(wx, wy), 0.0,
+    o2 = (0.0, 0.0, 0.0, 0.0, 0.0, _norm2(wx, wy), 0.0,
           math.exp(-s * c.t.inv_s0) if c.t.inv_s0 > 0.0 else 1.0, 0.0, 0.0, 0.0)
     p2 = c.pressure(x_end)
     while h_e - t > 1e-12 * h_e:
@@ -422,7 +459,7 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             # equilibrium; the SDIRK extrapolation would overshoot it
             xe = x_end + c.Vr * (rest - H)
             pe = c.pressure(xe)
-            o2 = stage(c, H, pe, ux, uy, wx, wy, s, math.hypot(wx, wy))
+            o2 = stage(c, H, pe, ux, uy, wx, wy, s, _norm2(wx, wy))
             ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
             energy += H * (o2[6] * o2[5])
             Jx += H * o2[9]
@@ -436,7 +473,7 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
         Hs = GAMMA * H
         x1 = x_end + c.Vr * (rest - Hs)
         p1 = c.pressure(x1)
-        o1 = stage(c, Hs, p1, ux, uy, wx, wy, s, math.hypot(wx, wy))
+        o1 = stage(c, Hs, p1, ux, uy, wx, wy, s, _norm2(wx, wy))
         Zux = ux + g1 * (o1[0] - ux)
         Zuy = uy + g1 * (o1[1] - uy)
         Zwx = wx + g1 * (o1[2] - wx)
@@ -537,7 +574,7 @@ def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float
     Fx = Jx * b * vr
     Fy = Jy * b * vr
     out[0], out[1], out[2] = Fx, Fy, Jm * b * vr * sgn
-    out[3] = math.hypot(Fx, Fy) / Fz if Fz > 0.0 else 0.0
+    out[3] = _norm2(Fx, Fy) / Fz if Fz > 0.0 else 0.0
     out[4] = fsl / psl if psl > 0.0 else 0.0
     out[5] = nsl / n_cells
     out[6] = dTm
@@ -605,7 +642,7 @@ class RefTire:
         for i, e in enumerate(self.el):
             if e[6] == 0.0:
                 continue
-            V = math.hypot(e[2], e[3])
+            V = _norm2(e[2], e[3])
             if V == 0.0:
                 jx += kdx
                 jy += kdy
@@ -762,7 +799,7 @@ class RefTire:
             else:
                 # the road force: the friction impulse of the step over its length
                 o[0], o[1], o[2] = Ix / dt, Iy / dt, Im / dt
-                o[5] = math.hypot(o[0], o[1]) / Fz if Fz > 0.0 else 0.0
+                o[5] = _norm2(o[0], o[1]) / Fz if Fz > 0.0 else 0.0
                 o[6], o[7], o[8] = fin[3], fin[2], fin[4]
             o[3], o[4], o[9] = kappa, alpha, T0
         return list(self.out)

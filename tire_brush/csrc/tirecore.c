@@ -104,6 +104,11 @@ void tf_table_free(tf_table *t) {
     free(t);
 }
 
+/* |(x, y)| as sqrt(x^2 + y^2): libm's hypot and Python's math.hypot round differently, and
+ * the Python reference must give the same bits. The magnitudes here (speeds, stresses,
+ * forces) are far from overflow. */
+static double norm2(double x, double y) { return sqrt(x * x + y * y); }
+
 /* Cell index i (0..n-2) and fraction f of x on axis k, clamped to the axis. */
 static void locate(const tf_table *t, int k, double x, int *i, double *f) {
     int n = t->n[k];
@@ -256,6 +261,18 @@ static double solve_cell(tf_stg *S, double lo, double hi, double x, double r, do
     return x;
 }
 
+/* R at speed node j from the node's values alone (no interpolation; for the cell walk). */
+static double node_resid(const tf_stg *S, int j) {
+    double n[3];
+    node(S->t, &S->q, j, n);
+    double V = S->t->vnode[j];
+    double E = S->inv_s0 > 0.0 ? exp(-(S->Zs + S->Hs * V) * S->inv_s0) : 1.0;
+    double P = S->pf * (n[1] + (n[0] - n[1]) * E);
+    if (S->iso) return (S->Ax * V + P) / S->G - 1.0;
+    double rx = S->gx / (S->Ax * V + P), ry = S->gy / (S->Ay * V + P);
+    return 1.0 / sqrt(rx * rx + ry * ry) - 1.0;
+}
+
 typedef struct {
     double ux, uy, wx, wy, s, V, P, E, dT, fx, fy;   /* f: friction stress on the tip [Pa] */
 } tf_stage;
@@ -274,7 +291,7 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
     S.Ay = mdt + kdy;
     S.gx = mdt * Zwx - c->kx * Zux + kdx * c->Vbx;
     S.gy = mdt * Zwy - c->ky * Zuy + kdy * c->Vby;
-    S.G = hypot(S.gx, S.gy);
+    S.G = norm2(S.gx, S.gy);
     S.pf = c->mu_scale * p;
     S.Zs = Zs;
     S.Hs = Hs;
@@ -337,13 +354,26 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
                 V = r_ub >= 0.0 ? solve_cell(&S, lo, ub, ub, r_ub, d_ub) : V_hi;
                 break;
             }
-            /* R is continuous across a node: read it there with the next cell's slope */
-            set_cell(&S, S.cell + 1);
-            double d_ub, r_ub = resid(&S, ub, &d_ub);
-            if (r_ub >= 0.0) { V = solve_cell(&S, lo, ub, ub, r_ub, d_ub); break; }
-            lo = ub;
-            r = r_ub;
-            d = d_ub;
+            /* walk the nodes above from their values alone (R is continuous across a
+             * node) up to the first where R >= 0, or to the cell that holds V_hi */
+            int j = S.cell + 1;
+            double rj = node_resid(&S, j);
+            while (rj < 0.0 && j + 1 <= nv - 1 && t->vnode[j + 1] < V_hi) {
+                j += 1;
+                rj = node_resid(&S, j);
+            }
+            if (rj >= 0.0) {                  /* the root is in [vnode[j-1], vnode[j]] */
+                if (j - 1 != S.cell) {
+                    set_cell(&S, j - 1);
+                    lo = t->vnode[j - 1];
+                }
+                double d_, r_ = resid(&S, t->vnode[j], &d_);
+                V = solve_cell(&S, lo, t->vnode[j], t->vnode[j], r_, d_);
+                break;
+            }
+            set_cell(&S, j);                  /* R < 0 up to node j: go on in cell j */
+            lo = t->vnode[j];
+            r = resid(&S, lo, &d);
         }
     } else if (r > 0.0) {                     /* decelerating: the first root below */
         double hi = Vs;
@@ -364,12 +394,26 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
                 V = solve_cell(&S, 0.0, hi, hi, r, d);
                 break;
             }
-            set_cell(&S, S.cell - 1);
-            double d_lb, r_lb = resid(&S, lb, &d_lb);
-            if (r_lb < 0.0) { V = solve_cell(&S, lb, hi, lb, r_lb, d_lb); break; }
-            hi = lb;
-            r = r_lb;
-            d = d_lb;
+            /* walk the nodes below from their values alone down to the first where R < 0
+             * (R(0) < 0: the stick test failed) */
+            int j = S.cell;
+            double rj = node_resid(&S, j);
+            while (rj >= 0.0 && j > 0) {
+                j -= 1;
+                rj = node_resid(&S, j);
+            }
+            if (rj < 0.0) {                   /* the root is in [vnode[j], vnode[j+1]] */
+                if (j != S.cell) {
+                    set_cell(&S, j);
+                    hi = t->vnode[j + 1];
+                }
+                double d_, r_ = resid(&S, t->vnode[j], &d_);
+                V = solve_cell(&S, t->vnode[j], hi, t->vnode[j], r_, d_);
+                break;
+            }
+            set_cell(&S, -1);                 /* R >= 0 down to the first node */
+            hi = t->vnode[0];
+            r = resid(&S, hi, &d);
         }
     } else {
         V = Vs;
@@ -415,7 +459,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
     double energy = 0.0, steps = 0.0, Jx = 0.0, Jy = 0.0, Jm = 0.0;
     double g1 = (1.0 - GAMMA) / GAMMA, ig = 1.0 / GAMMA;
     tf_stage o1, o2;
-    o2.V = hypot(wx, wy);
+    o2.V = norm2(wx, wy);
     o2.P = 0.0;
     o2.E = c->t->inv_s0 > 0.0 ? exp(-s * c->t->inv_s0) : 1.0;
     o2.dT = 0.0;
@@ -432,7 +476,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
              * equilibrium; the SDIRK extrapolation would overshoot it */
             double xe = x_end + c->Vr * (rest - H);
             double pe = pressure(c, xe);
-            stage(c, H, pe, ux, uy, wx, wy, s, hypot(wx, wy), &o2);
+            stage(c, H, pe, ux, uy, wx, wy, s, norm2(wx, wy), &o2);
             ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
             energy += H * (o2.P * o2.V);
             Jx += H * o2.fx;
@@ -447,7 +491,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
         double Hs = GAMMA * H;
         double x1 = x_end + c->Vr * (rest - Hs);
         double p1 = pressure(c, x1);
-        stage(c, Hs, p1, ux, uy, wx, wy, s, hypot(wx, wy), &o1);
+        stage(c, Hs, p1, ux, uy, wx, wy, s, norm2(wx, wy), &o1);
         double Zux = ux + g1 * (o1.ux - ux), Zuy = uy + g1 * (o1.uy - uy);
         double Zwx = wx + g1 * (o1.wx - wx), Zwy = wy + g1 * (o1.wy - wy);
         double Zs = s + g1 * (o1.s - s);
@@ -593,7 +637,7 @@ int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const d
         o[0] = Fx;
         o[1] = Fy;
         o[2] = Jm * b * vr * sgn;
-        o[3] = Fz > 0.0 ? hypot(Fx, Fy) / Fz : 0.0;
+        o[3] = Fz > 0.0 ? norm2(Fx, Fy) / Fz : 0.0;
         o[4] = psl > 0.0 ? fsl / psl : 0.0;
         o[5] = nsl / n_cells;
         o[6] = dTm;
@@ -693,7 +737,7 @@ static void tread_stiffness(const tf_tire *tire, const tf_ctx *c, double h, doub
     for (int i = 0; i < tire->L; i++) {
         const double *e = tire->el + (size_t)i * TF_ELEM;
         if (e[6] == 0.0) continue;
-        double V = hypot(e[2], e[3]);
+        double V = norm2(e[2], e[3]);
         if (V == 0.0) {
             jx += kdx;
             jy += kdy;
@@ -901,7 +945,7 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
             o[0] = Ix / dt;
             o[1] = Iy / dt;
             o[2] = Im / dt;
-            o[5] = Fz > 0.0 ? hypot(o[0], o[1]) / Fz : 0.0;
+            o[5] = Fz > 0.0 ? norm2(o[0], o[1]) / Fz : 0.0;
             o[6] = fin[3];
             o[7] = fin[2];
             o[8] = fin[4];
