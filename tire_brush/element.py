@@ -72,6 +72,12 @@ STATE_VERSION = 2
 LN10 = 2.302585092994046
 
 
+def _cold_weight(a: float) -> float:
+    """``exp(-a)``, the cold weight of eq. (28) at ``a = s/s0``, taken as 0 beyond
+    ``a = 700`` (below 1e-304: fully developed elements skip the exponential), as the core."""
+    return 0.0 if a > 700.0 else math.exp(-a)
+
+
 def _norm2(x: float, y: float) -> float:
     """``sqrt(x^2 + y^2)``, as the core computes it (``math.hypot`` rounds differently)."""
     return math.sqrt(x * x + y * y)
@@ -195,7 +201,7 @@ class _Stage:
             dmh = c1[1] * dl
         else:
             mc, mh, dT, dmc, dmh = c0[0], c0[1], c0[2], 0.0, 0.0
-        E = math.exp(-(self.Zs + self.Hs * V) * self.inv_s0) if self.inv_s0 > 0.0 else 1.0
+        E = _cold_weight((self.Zs + self.Hs * V) * self.inv_s0) if self.inv_s0 > 0.0 else 1.0
         dm = mc - mh
         P = self.pf * (mh + dm * E)
         dP = self.pf * ((dmh + (dmc - dmh) * E) - dm * E * (self.Hs * self.inv_s0))
@@ -218,7 +224,7 @@ class _Stage:
         """R at speed node ``j`` from the node's values alone (no interpolation)."""
         n = self.t.node(self.q, j)
         V = self.t.vnode[j]
-        E = math.exp(-(self.Zs + self.Hs * V) * self.inv_s0) if self.inv_s0 > 0.0 else 1.0
+        E = _cold_weight((self.Zs + self.Hs * V) * self.inv_s0) if self.inv_s0 > 0.0 else 1.0
         P = self.pf * (n[1] + (n[0] - n[1]) * E)
         if self.iso:
             return (self.Ax * V + P) / self.G - 1.0
@@ -303,7 +309,7 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
     S.iso = S.Ax == S.Ay
     S.q = t.prep(c.iT, c.fT, p * c.inv_void)
     S.set_cell(-1)
-    E0 = math.exp(-Zs * S.inv_s0) if S.inv_s0 > 0.0 else 1.0
+    E0 = _cold_weight(Zs * S.inv_s0) if S.inv_s0 > 0.0 else 1.0
     mu0 = S.c0[1] + (S.c0[0] - S.c0[1]) * E0
     if S.G <= mu0 * S.pf:                       # the tip sticks
         return (Zux - Hs * c.Vbx, Zuy - Hs * c.Vby, 0.0, 0.0, Zs, 0.0, 0.0, E0, S.c0[2],
@@ -447,7 +453,7 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
     g1 = (1.0 - GAMMA) / GAMMA
     ig = 1.0 / GAMMA
     o2 = (0.0, 0.0, 0.0, 0.0, 0.0, _norm2(wx, wy), 0.0,
-          math.exp(-s * c.t.inv_s0) if c.t.inv_s0 > 0.0 else 1.0, 0.0, 0.0, 0.0)
+          _cold_weight(s * c.t.inv_s0) if c.t.inv_s0 > 0.0 else 1.0, 0.0, 0.0, 0.0)
     p2 = c.pressure(x_end)
     while h_e - t > 1e-12 * h_e:
         rest = h_e - t

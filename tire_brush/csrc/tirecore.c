@@ -109,6 +109,10 @@ void tf_table_free(tf_table *t) {
  * forces) are far from overflow. */
 static double norm2(double x, double y) { return sqrt(x * x + y * y); }
 
+/* The cold weight exp(-a) of eq. (28) for a = s / s0 >= 0 (taken as 0 beyond a = 700, where
+ * it is below 1e-304 anyway: fully developed elements skip the exponential). */
+static double cold_weight(double a) { return a > 700.0 ? 0.0 : exp(-a); }
+
 /* Cell index i (0..n-2) and fraction f of x on axis k, clamped to the axis. */
 static void locate(const tf_table *t, int k, double x, int *i, double *f) {
     int n = t->n[k];
@@ -222,7 +226,7 @@ static double resid(tf_stg *S, double V, double *dR) {
         dmc = 0.0;
         dmh = 0.0;
     }
-    double E = S->inv_s0 > 0.0 ? exp(-(S->Zs + S->Hs * V) * S->inv_s0) : 1.0;
+    double E = S->inv_s0 > 0.0 ? cold_weight((S->Zs + S->Hs * V) * S->inv_s0) : 1.0;
     double dm = mc - mh;
     double P = S->pf * (mh + dm * E);
     double dP = S->pf * ((dmh + (dmc - dmh) * E) - dm * E * (S->Hs * S->inv_s0));
@@ -263,10 +267,15 @@ static double solve_cell(tf_stg *S, double lo, double hi, double x, double r, do
 
 /* R at speed node j from the node's values alone (no interpolation; for the cell walk). */
 static double node_resid(const tf_stg *S, int j) {
-    double n[3];
-    node(S->t, &S->q, j, n);
-    double V = S->t->vnode[j];
-    double E = S->inv_s0 > 0.0 ? exp(-(S->Zs + S->Hs * V) * S->inv_s0) : 1.0;
+    const tf_table *t = S->t;
+    const double *v = t->val + (size_t)j * t->n[1] * t->n[2] * 3 + S->q.b;
+    int o2 = t->n[2] * 3;
+    double n[2];
+    for (int k = 0; k < 2; k++)
+        n[k] = S->q.w00 * v[k] + S->q.w01 * v[3 + k] + S->q.w10 * v[o2 + k] +
+               S->q.w11 * v[o2 + 3 + k];
+    double V = t->vnode[j];
+    double E = S->inv_s0 > 0.0 ? cold_weight((S->Zs + S->Hs * V) * S->inv_s0) : 1.0;
     double P = S->pf * (n[1] + (n[0] - n[1]) * E);
     if (S->iso) return (S->Ax * V + P) / S->G - 1.0;
     double rx = S->gx / (S->Ax * V + P), ry = S->gy / (S->Ay * V + P);
@@ -299,7 +308,7 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
     S.iso = S.Ax == S.Ay;
     prep_tp(t, c->iT, c->fT, p * c->inv_void, &S.q);
     set_cell(&S, -1);
-    double E0 = S.inv_s0 > 0.0 ? exp(-Zs * S.inv_s0) : 1.0;
+    double E0 = S.inv_s0 > 0.0 ? cold_weight(Zs * S.inv_s0) : 1.0;
     double mu0 = S.c0[1] + (S.c0[0] - S.c0[1]) * E0;
     if (S.G <= mu0 * S.pf) {                  /* the tip sticks */
         o->V = 0.0;
@@ -461,7 +470,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
     tf_stage o1, o2;
     o2.V = norm2(wx, wy);
     o2.P = 0.0;
-    o2.E = c->t->inv_s0 > 0.0 ? exp(-s * c->t->inv_s0) : 1.0;
+    o2.E = c->t->inv_s0 > 0.0 ? cold_weight(s * c->t->inv_s0) : 1.0;
     o2.dT = 0.0;
     o2.fx = 0.0;
     o2.fy = 0.0;
