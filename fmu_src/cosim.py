@@ -481,11 +481,6 @@ def _file_digest(path: Any) -> str:
 
 
 # -- demo manoeuvre --------------------------------------------------------------------------
-#: Internal step of the demo's FMU runs [s]: resolves the blending length of eq. (28) at
-#: braking slip speeds (at the FMU's default 1 ms the ABS stop at 20 C is ~5 % short).
-DEMO_DT_INTERNAL = 2e-5
-
-
 def demo_manoeuvre(fmu: str | Path, out_dir: str | Path, *, v0: float = 100.0 / 3.6,
                    T_ambient: float = 293.15,
                    settings: CosimSettings | None = None) -> tuple[list[Path], dict[str, Any]]:
@@ -508,7 +503,7 @@ def demo_manoeuvre(fmu: str | Path, out_dir: str | Path, *, v0: float = 100.0 / 
     from tire_brush.braking.abs_control import ABSParams, LockedWheel, RuleBasedABS
     from tire_brush.braking.quarter_car import load_quarter_car
 
-    settings = settings or CosimSettings(parameters={"dt_internal": DEMO_DT_INTERNAL})
+    settings = settings or CosimSettings()      # the FMU's own (converged) defaults
     car = load_quarter_car(models_dir() / "studies" / "vehicles" / "passenger.toml")
     runs: dict[str, CosimResult] = {}
     numbers: dict[str, Any] = {"v0_m_per_s": v0, "T_ambient_K": T_ambient,
