@@ -298,80 +298,42 @@ def test_native_limits_are_parameters(fmu, unzipdir):
 
 
 # -- a C host ----------------------------------------------------------------------------------
-C_HOST = r"""
-#include <dlfcn.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <math.h>
-#include "fmi2Functions.h"
+def compile_host(source, unzipdir, exe):
+    """Compile a C host against the FMI headers in the FMU's sources/."""
+    from pathlib import Path
 
-static void logger(fmi2ComponentEnvironment e, fmi2String n, fmi2Status s, fmi2String c,
-                   fmi2String m, ...) {
-    (void)e; (void)c; fprintf(stderr, "[%s %d] %s\n", n, s, m);
-}
-
-#define LOAD(f) f##TYPE *f = (f##TYPE *)dlsym(h, #f); if (!f) { puts("missing " #f); return 2; }
-
-int main(int argc, char **argv) {
-    /* argv: binary, resources URI, GUID, steps */
-    void *h = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
-    if (!h) { printf("dlopen: %s\n", dlerror()); return 2; }
-    LOAD(fmi2Instantiate) LOAD(fmi2SetupExperiment) LOAD(fmi2EnterInitializationMode)
-    LOAD(fmi2ExitInitializationMode) LOAD(fmi2SetReal) LOAD(fmi2GetReal) LOAD(fmi2DoStep)
-    LOAD(fmi2Terminate) LOAD(fmi2FreeInstance)
-    fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
-    int n = atoi(argv[4]);
-    fmi2Component c = fmi2Instantiate("host", fmi2CoSimulation, argv[3], argv[2], &cb,
-                                      fmi2False, fmi2False);
-    if (!c) return 3;
-    if (fmi2SetupExperiment(c, fmi2False, 0, 0, fmi2False, 0) ||
-        fmi2EnterInitializationMode(c) || fmi2ExitInitializationMode(c)) return 4;
-    fmi2ValueReference vin[6] = {0, 1, 2, 3, 4, 5}, vout[10] = {6, 7, 8, 9, 10, 11, 12, 13,
-                                                                   14, 15};
-    double t = 0, dt = 1e-3, u[6], y[10];
-    for (int k = 0; k < n; k++) {
-        u[0] = 20.0; u[1] = 0.3; u[2] = 20.0 * (1.0 - 0.05 * (k > 20)) / 0.31;
-        u[3] = 4000.0; u[4] = 293.15; u[5] = 1.0;
-        if (fmi2SetReal(c, vin, 6, u) || fmi2DoStep(c, t, dt, fmi2True) > fmi2Warning ||
-            fmi2GetReal(c, vout, 10, y)) return 5;
-        t += dt;
-        for (int i = 0; i < 10; i++) if (!isfinite(y[i])) return 6;
-    }
-    printf("%.17g %.17g %.17g\n", y[0], y[1], y[2]);
-    fmi2Terminate(c);
-    fmi2FreeInstance(c);
-    dlclose(h);
-    return 0;
-}
-"""
+    subprocess.run(["cc", "-std=c99", "-O2", "-I", str(Path(unzipdir) / "sources"), "-o",
+                    str(exe), str(source), "-ldl", "-lm"], check=True)
+    return exe
 
 
 def test_c_host_dlopens_and_steps(fmu, unzipdir, tmp_path):
+    """fmu_src/native/host_example.c (the README's example) loads the binary with dlopen and
+    steps 4 tires; tire 0 equals the Python model bit for bit."""
     from pathlib import Path
 
     import fmpy
 
-    src = tmp_path / "host.c"
-    src.write_text(C_HOST)
-    exe = tmp_path / "host"
-    sources = Path(unzipdir) / "sources"
-    subprocess.run(["cc", "-std=c99", "-O2", "-I", str(sources), "-o", str(exe), str(src),
-                    "-ldl", "-lm"], check=True)
+    from fmu_src.native_build import NATIVE_DIR
+
+    exe = compile_host(NATIVE_DIR / "host_example.c", unzipdir, tmp_path / "host")
     md = fmpy.read_model_description(str(fmu))
     lib = Path(unzipdir) / "binaries" / "linux64" / f"{MODEL_IDENTIFIER}.so"
-    res = subprocess.run([str(exe), str(lib), (Path(unzipdir) / "resources").as_uri(),
-                          md.guid, "100"], capture_output=True, text=True, check=False)
+    uri = (Path(unzipdir) / "resources").as_uri()
+    res = subprocess.run([str(exe), str(lib), uri, md.guid, "100", "4"], capture_output=True,
+                         text=True, check=False)
     assert res.returncode == 0, res.stdout + res.stderr
-    got = [float(x) for x in res.stdout.split()]
+    got = [float(x) for x in res.stdout.splitlines()[0].split()]
+    assert res.stdout.splitlines()[1].startswith("median_us ")
     model = _model()
     for k in range(100):
         out = model.step(1e-3, 20.0, 0.3, 20.0 * (1.0 - 0.05 * (k > 20)) / 0.31, 4000.0,
                          293.15, 1.0)
     assert got == [out.Fx, out.Fy, out.Mz]
     # a wrong GUID is refused at instantiation
-    res = subprocess.run([str(exe), str(lib), (Path(unzipdir) / "resources").as_uri(),
-                          "{wrong}", "1"], capture_output=True, text=True, check=False)
-    assert res.returncode == 3
+    res = subprocess.run([str(exe), str(lib), uri, "{wrong}", "1"], capture_output=True,
+                         text=True, check=False)
+    assert res.returncode == 3 and "GUID" in res.stderr
 
 
 def test_ctypes_symbols_are_only_fmi(fmu, unzipdir):
@@ -396,3 +358,23 @@ def test_build_options_are_start_values(tmp_path):
     _compare(drv, model, braking_inputs(50))
     drv.close()
     assert set(INPUTS) | set(OUTPUTS) <= set(by)
+
+
+def test_cli_build_native_and_info(tmp_path, capsys):
+    import json
+
+    from lookup.cli import main
+
+    grid = tmp_path / "g.npz"
+    synthetic_grid().save_npz(grid)
+    out = tmp_path / "cli.fmu"
+    assert main(["fmu", "build", "--native", "--grid", str(grid), "-o", str(out),
+                 "--n-elements", "40", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["path"] == str(out)
+    assert main(["fmu", "info", str(out), "--json", "--validate"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["flavour"] == "native" and info["validation_problems"] == []
+    assert info["options"]["n_elements"] == 40 and "linux64" in info["native"]["platforms"]
+    assert main(["fmu", "info", str(out)]) == 0
+    assert "needs     nothing" in capsys.readouterr().out
