@@ -6,8 +6,9 @@
  *
  *   cc -std=c99 -O2 -I <unzipped FMU>/sources host_example.c -o host -ldl -lm
  *   ./host <unzipped FMU>/binaries/linux64/BrushTireNative.so \
- *          file://<unzipped FMU>/resources '<guid from modelDescription.xml>' 1000 4
+ *          file://<unzipped FMU>/resources '<guid from modelDescription.xml>' 1000 4 [h]
  *
+ * (optional h: the communication step [s], default 1e-3; h = 0 times the wrapper alone).
  * Output: "Fx Fy Mz" of tire 0 after the last step (%.17g), then
  * "median_us <median of one doStep> mean_us <mean> rtf <real-time factor of all tires>".
  * Value references: inputs vx..mu_scale 0..5, outputs Fx..T_tread 6..15
@@ -46,7 +47,7 @@ static int cmp(const void *a, const void *b) {
 
 int main(int argc, char **argv) {
     if (argc < 5) {
-        fprintf(stderr, "usage: %s binary resources-uri guid steps [tires]\n", argv[0]);
+        fprintf(stderr, "usage: %s binary resources-uri guid steps [tires [h]]\n", argv[0]);
         return 1;
     }
     void *lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
@@ -72,7 +73,7 @@ int main(int argc, char **argv) {
     const fmi2ValueReference vin[6] = {0, 1, 2, 3, 4, 5};
     const fmi2ValueReference vout[10] = {6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
     double *dt_step = malloc(sizeof(double) * (size_t)steps);
-    double t = 0.0, h = 1e-3, u[6], y[10], total = 0.0;
+    double t = 0.0, h = argc > 6 ? atof(argv[6]) : 1e-3, u[6], y[10], total = 0.0;
     for (int k = 0; k < steps; k++) {
         /* 20 m/s, slip angle ~1 deg, braking slip -5 % after 20 ms, 4 kN, 20 C */
         u[0] = 20.0;
@@ -99,8 +100,8 @@ int main(int argc, char **argv) {
     fmi2GetReal(c[0], vout, 10, y0);
     printf("%.17g %.17g %.17g\n", y0[0], y0[1], y0[2]);
     qsort(dt_step, (size_t)steps, sizeof(double), cmp);
-    printf("median_us %.3f mean_us %.3f rtf %.3f\n", 1e6 * dt_step[steps / 2],
-           1e6 * total / steps / n, steps * h / total);
+    printf("median_us %.4f mean_us %.4f rtf %.3f\n", 1e6 * dt_step[steps / 2],
+           1e6 * total / steps / n, steps * 1e-3 / total);
     for (int i = 0; i < n; i++) {
         fmi2Terminate(c[i]);
         fmi2FreeInstance(c[i]);
