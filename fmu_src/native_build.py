@@ -17,8 +17,8 @@ Contents of the FMU:
 * ``binaries/<platform>/BrushTireNative.{so,dll}``;
 * ``resources/tirefric-table.bin``: the friction table of the grid (format in
   :func:`table_bytes`, read by the wrapper at instantiation);
-* ``resources/tirefric-data/build.json`` and ``grid.npz``: what the FMU was built from
-  (``tirefric fmu info``), as in the pythonfmu flavour;
+* ``resources/tirefric-data/build.json``: what the FMU was built from (``tirefric fmu
+  info``), as in the pythonfmu flavour (the grid's npz is left out: its nodes are the table);
 * ``sources/``: the wrapper, the core, the generated ``tfn_config.h`` and the FMI headers.
 
 The start values of every variable, the GUID and the mapping of the ``tire.*`` parameters onto
@@ -434,11 +434,12 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
         bins = {p: compile_binary(stage / "sources", p, found[p], Path(tmp) / "bin")
                 for p in wanted}
         build["native"]["platforms"] = sorted(bins)
+        # the grid's nodes are in the table resource; the npz (same data) is left out
+        build["grid"]["file"] = None
+        build["grid"]["table"] = TABLE_FILE
         entries: dict[str, bytes] = {
             f"resources/{TABLE_FILE}": table,
             f"resources/{DATA_DIR}/{BUILD_FILE}": _json_bytes(build),
-            f"resources/{DATA_DIR}/{build['grid']['file']}":
-                (stage / "resources" / DATA_DIR / build["grid"]["file"]).read_bytes(),
         }
         entries |= {f"sources/{n}": b for n, b in sources.items()}
         entries |= {f"binaries/{p}/{path.name}": path.read_bytes() for p, path in bins.items()}
