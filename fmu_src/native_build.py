@@ -19,7 +19,8 @@ Contents of the FMU:
   :func:`table_bytes`, read by the wrapper at instantiation);
 * ``resources/tirefric-data/build.json``: what the FMU was built from (``tirefric fmu
   info``), as in the pythonfmu flavour (the grid's npz is left out: its nodes are the table);
-* ``sources/``: the wrapper, the core, the generated ``tfn_config.h`` and the FMI headers.
+* ``sources/``: the wrapper, the core, the generated ``tfn_config.h`` and the FMI headers;
+* ``documentation/host_example.c``: a minimal C host (dlopen, four tires, timing).
 
 The start values of every variable, the GUID and the mapping of the ``tire.*`` parameters onto
 the core's ``tf_params`` are compiled in (``tfn_config.h``, written by :func:`config_header`).
@@ -442,6 +443,7 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
             f"resources/{DATA_DIR}/{BUILD_FILE}": _json_bytes(build),
         }
         entries |= {f"sources/{n}": b for n, b in sources.items()}
+        entries["documentation/host_example.c"] = (NATIVE_DIR / "host_example.c").read_bytes()
         entries |= {f"binaries/{p}/{path.name}": path.read_bytes() for p, path in bins.items()}
         vendor = {"build_id": build_id, "grid_hash": grid_o.hash, "grid_source": grid_source,
                   "tire": tire_p.name, "tire_file": build["tire"]["file"],
