@@ -77,3 +77,38 @@ def test_win64_cross_build_exports_fmi(tmp_path):
                              text=True, check=False).stdout
         if "Export" in out:
             assert "fmi2DoStep" in out and "pei-x86-64" in out
+
+
+def test_reference_fmus_import_layer_host(fmu, tmp_path):
+    """The FMI import layer of the Modelica Reference FMUs (``src/FMI.c``, ``src/FMI2.c``,
+    what their ``fmusim`` is built on) loads and steps the FMU, with a rollback through
+    serialize/deserialize; equal to the Python model. Needs ``$REFERENCE_FMUS`` = a checkout
+    of github.com/modelica/Reference-FMUs (not shipped)."""
+    import os
+    from pathlib import Path
+
+    import fmpy
+
+    root = os.environ.get("REFERENCE_FMUS")
+    if not root or not (Path(root) / "src" / "FMI2.c").is_file():
+        pytest.skip("set REFERENCE_FMUS to a checkout of modelica/Reference-FMUs")
+    root = Path(root)
+    exe = tmp_path / "rhost"
+    src = [str(root / "src" / f) for f in ("FMI.c", "FMI2.c", "FMI3.c")
+           if (root / "src" / f).is_file()]
+    subprocess.run(["cc", "-std=c99", "-D_GNU_SOURCE", "-O2", "-I", str(root / "include"),
+                    "-o", str(exe), str(Path(__file__).with_name("reffmus_host.c")), *src,
+                    "-ldl", "-lm"], check=True, capture_output=True)
+    unz = Path(fmpy.extract(str(fmu)))
+    guid = fmpy.read_model_description(str(fmu)).guid
+    res = subprocess.run([str(exe), str(unz / "binaries" / "linux64" /
+                                        f"{MODEL_IDENTIFIER}.so"),
+                          (unz / "resources").as_uri(), guid, "100"], capture_output=True,
+                         text=True, check=False)
+    assert res.returncode == 0, res.stderr
+    first, replay = ([float(x) for x in line.split()] for line in res.stdout.splitlines())
+    assert first == replay, "rollback through serialize/deserialize replays bit for bit"
+    m = TransientBrushTire(load_tire("passenger"), GridFriction(synthetic_grid()))
+    for _ in range(100):
+        out = m.step(1e-3, *U)
+    assert first == [out.Fx, out.Fy, out.Mz]
