@@ -378,3 +378,27 @@ def test_cli_build_native_and_info(tmp_path, capsys):
     assert info["options"]["n_elements"] == 40 and "linux64" in info["native"]["platforms"]
     assert main(["fmu", "info", str(out)]) == 0
     assert "needs     nothing" in capsys.readouterr().out
+
+
+def test_native_initial_outputs_and_reset(fmu, unzipdir):
+    """Before the first step: zero forces, the reported slips of the start inputs and
+    T_tread = T_surface (as the pythonfmu slave); fmi2Reset gives a fresh instance."""
+    from tire_brush.slip import slip_from_kinematics
+
+    tire = load_tire("passenger")
+    start = {"vx": 10.0, "vy": -1.0, "omega": 30.0, "T_surface": 300.0}
+    drv = FmuDriver(fmu, unzipdir, start_values=start)
+    kappa, alpha = slip_from_kinematics(10.0, -1.0, 30.0, tire.R_e, 0.1)
+    assert drv.outputs().tolist() == [0.0, 0.0, 0.0, kappa, alpha, 0.0, 0.0, 0.0, 0.0, 300.0]
+    for _ in range(20):
+        drv.step([20.0, 0.0, 60.0, 4000.0, 293.15, 1.0])
+    f = drv.fmu
+    f.reset()
+    f.setupExperiment(startTime=0.0)
+    f.enterInitializationMode()
+    f.setInteger([drv.vr["n_elements"]], [20])
+    f.exitInitializationMode()
+    drv.time = 0.0
+    model = TransientBrushTire(tire, GridFriction(synthetic_grid()), n_elements=20)
+    _compare(drv, model, braking_inputs(30))
+    drv.close()
