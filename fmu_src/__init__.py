@@ -1,4 +1,5 @@
-"""tirefric ``fmu_src``: the transient brush tire as an FMI 2.0 co-simulation FMU (pythonfmu).
+"""tirefric ``fmu_src``: the transient brush tire as an FMI 2.0 co-simulation FMU (pythonfmu, or
+native: the C core with an FMI wrapper).
 
 One concern per module (as FMPy does it):
 
@@ -10,7 +11,9 @@ One concern per module (as FMPy does it):
 * :mod:`fmu_src.package` -- the FMU's private copy of the modules it runs;
 * :mod:`fmu_src.model_description` -- post-processing of pythonfmu's modelDescription.xml;
 * :mod:`fmu_src.build` -- ``tire + grid -> BrushTire.fmu``; :mod:`fmu_src.cli` --
-  ``tirefric fmu build|info``;
+  ``tirefric fmu build [--native]|info``;
+* :mod:`fmu_src.native_build` -- ``tire + grid -> BrushTireNative.fmu``: the C core with the
+  FMI 2.0 wrapper ``fmu_src/native/fmu_wrapper.c`` (same interface, no Python on the host);
 * :mod:`fmu_src.cosim` -- the host's side: a quarter car braked through a built FMU with fmpy,
   step by step (torque ramp, locked wheel or rule-based ABS), and the braking-study plug-in.
 

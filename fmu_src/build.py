@@ -309,7 +309,8 @@ def _run_pythonfmu(stage: Path, runtime: RuntimePackage, out_dir: Path) -> Path:
 
 
 def build_fmu(tire: str | Path | TireParams, grid: str | Path | Any, output: str | Path,
-              options: BuildOptions | None = None, *, validate: bool = True) -> BuildReport:
+              options: BuildOptions | None = None, *, validate: bool = True,
+              native: bool = False) -> BuildReport:
     """Build the brush-tire FMU (module docstring).
 
     Parameters
@@ -325,6 +326,9 @@ def build_fmu(tire: str | Path | TireParams, grid: str | Path | Any, output: str
         Start values of the model options.
     validate
         Run fmpy's validation and refuse an FMU with problems.
+    native
+        Build the Python-free flavour instead (:func:`fmu_src.native_build.build_native_fmu`:
+        the C core with an FMI wrapper, for every platform a compiler is found for).
 
     Returns
     -------
@@ -337,6 +341,10 @@ def build_fmu(tire: str | Path | TireParams, grid: str | Path | Any, output: str
     BuildError
         Packaging, pythonfmu or validation failed (the message lists the problems).
     """
+    if native:
+        from .native_build import build_native_fmu
+
+        return build_native_fmu(tire, grid, output, options, validate=validate)
     t0 = time.perf_counter()
     output = Path(output)
     if output.suffix != ".fmu":
@@ -400,4 +408,5 @@ def read_fmu_info(path: str | Path) -> dict[str, Any]:
             "tire_file": build["tire"].get("file", ""), "grid": build["grid"],
             "options": build["options"], "limits": build["limits"],
             "requirements": build["requirements"], "versions": build["versions"],
-            "runtime": build.get("runtime", {})}
+            "runtime": build.get("runtime", {}), "flavour": build.get("flavour", "pythonfmu"),
+            "native": build.get("native", {})}

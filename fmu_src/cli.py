@@ -10,8 +10,9 @@ from lookup.cli import dump_json, parse_float
 def register(sub: argparse._SubParsersAction) -> None:
     """Register ``tirefric fmu`` and its sub-commands."""
     f = sub.add_parser("fmu", help="the brush tire as an FMI 2.0 co-simulation FMU",
-                       description="Build and inspect the brush-tire FMU (pythonfmu; runs in "
-                                   "the host's Python with numpy).")
+                       description="Build and inspect the brush-tire FMU (pythonfmu: runs in "
+                                   "the host's Python with numpy; --native: C, needs "
+                                   "nothing on the host).")
     fs = f.add_subparsers(dest="fmu_command", required=True, metavar="FMU_COMMAND")
 
     b = fs.add_parser("build", help="build BrushTire.fmu from a tire and a grid",
@@ -31,6 +32,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--s0", default=None,
                    help="start value of s0, the blending length of eq. (28) [m] (default: "
                         "the grid's)")
+    b.add_argument("--native", action="store_true",
+                   help="build the Python-free flavour: the C core with an FMI 2.0 wrapper "
+                        "(binaries for linux64, and win64 where a cross-compiler is found: "
+                        "x86_64-w64-mingw32-gcc or the ziglang wheel)")
     b.add_argument("--json", action="store_true", help="print a JSON build report")
     b.set_defaults(func=_run_build)
 
@@ -51,7 +56,8 @@ def _run_build(args: argparse.Namespace) -> int:
         kw["dt_internal"] = parse_float(args.dt_internal, "--dt-internal")
     if args.s0 is not None:
         kw["s0"] = parse_float(args.s0, "--s0")
-    report = build_fmu(args.tire, args.grid, args.output, BuildOptions(**kw))
+    report = build_fmu(args.tire, args.grid, args.output, BuildOptions(**kw),
+                       native=args.native)
     if args.json:
         dump_json(report.as_dict())
         return 0
@@ -60,7 +66,10 @@ def _run_build(args: argparse.Namespace) -> int:
     print(f"grid      {report.grid_source}  {report.grid_hash}")
     print(f"guid      {report.guid}")
     print(f"build id  {report.build_id}")
-    print(f"runtime   {report.runtime_package} (numpy + standard library)")
+    if args.native:
+        print(f"binaries  {report.runtime_package.strip('()')} (no Python needed on the host)")
+    else:
+        print(f"runtime   {report.runtime_package} (numpy + standard library)")
     print("validated with fmpy: no problems")
     return 0
 
@@ -86,7 +95,10 @@ def _run_info(args: argparse.Namespace) -> int:
         if key in g["meta"]:
             print(f"          {key} = {g['meta'][key]}")
     print("options   " + ", ".join(f"{k} = {v}" for k, v in info["options"].items()))
-    print(f"needs     Python >= 3.11 with {', '.join(info['requirements'])}")
+    if info["flavour"] == "native":
+        print(f"needs     nothing (native: {', '.join(info['native'].get('platforms', []))})")
+    else:
+        print(f"needs     Python >= 3.11 with {', '.join(info['requirements'])}")
     if args.validate:
         problems = info["validation_problems"]
         print("validation: " + ("no problems" if not problems else

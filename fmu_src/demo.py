@@ -7,7 +7,9 @@ Steps (each printed with its time, so progress is visible):
    ``--rebuild-grid`` is given;
 2. plots of the friction branches (cold and hot mu(v), flash temperature, contact area, the
    grid's hot/cold map) and of the brush tire's mu-slip curves with the eq. (28) limits;
-3. the brush-tire FMU, built and validated with fmpy;
+3. the brush-tire FMU in both flavours, built and validated with fmpy: pythonfmu
+   (``BrushTire.fmu``, needs Python with numpy on the host) and native
+   (``BrushTireNative.fmu``, the C core with an FMI wrapper; needs a C compiler to build);
 4. a quarter-car braking manoeuvre driven through the FMU by fmpy, step by step;
 5. a small ABS study (``models/studies/abs_default.toml``: CasADi optimal control, rule-based
    ABS, locked wheel);
@@ -150,6 +152,18 @@ def _fmu(grid_path: Path, out: Path, log: DemoLog) -> Path:
     log.numbers["fmu"] = {"path": str(report.path), "guid": report.guid,
                           "size_MB": report.size_bytes / 1e6, "grid_hash": report.grid_hash,
                           "validation_problems": len(problems), "build_s": report.seconds}
+    try:
+        native = build_fmu("passenger", grid_path if grid_path.is_file() else "default",
+                           out / "BrushTireNative.fmu", native=True)
+    except TirefricError as exc:   # no C compiler: the pythonfmu flavour is enough here
+        log.numbers["fmu_native"] = {"error": str(exc)}
+        log.echo(f"      native FMU not built: {exc}")
+    else:
+        log.numbers["fmu_native"] = {
+            "path": str(native.path), "guid": native.guid, "size_MB": native.size_bytes / 1e6,
+            "platforms": native.runtime_package.strip("()").removeprefix("native: "),
+            "validation_problems": len(validate_fmu(str(native.path))),
+            "build_s": native.seconds}
     return report.path
 
 
@@ -200,6 +214,14 @@ def write_report(out: Path, log: DemoLog, figures: dict[str, list[Path]]) -> Pat
               f"`{Path(f.get('path', '')).name}`: FMI 2.0 co-simulation, GUID `{f.get('guid')}`, "
               f"{f.get('size_MB', 0):.1f} MB, grid `{f.get('grid_hash')}`; fmpy validation: "
               f"{f.get('validation_problems')} problems.", ""]
+    nf = n.get("fmu_native", {})
+    if "path" in nf:
+        lines += [f"`{Path(nf['path']).name}`: the same model as a native FMU (C core and FMI "
+                  f"wrapper, no Python on the host; binaries {nf.get('platforms')}), GUID "
+                  f"`{nf.get('guid')}`, {nf.get('size_MB', 0):.2f} MB; fmpy validation: "
+                  f"{nf.get('validation_problems')} problems.", ""]
+    elif nf:
+        lines += [f"Native FMU not built: {nf.get('error')}", ""]
     q = n.get("quarter_car", {})
     if q:
         lines += ["## 4. Quarter-car braking through the FMU", "",
@@ -249,7 +271,7 @@ def run_demo(out_dir: str | Path, *, rebuild_grid: bool = False,
     log.step(2, n, "friction branches and tire mu-slip curves")
     figures["friction"] = _friction_plots(grid, out, log)
     figures["tire"] = [_tire_curves(grid, out, log)]
-    log.step(3, n, "brush-tire FMU: build and validate")
+    log.step(3, n, "brush-tire FMUs (pythonfmu and native): build and validate")
     fmu = _fmu(grid_path, out, log)
     log.step(4, n, "quarter-car braking through the FMU (fmpy)")
     figures["quarter_car"], log.numbers["quarter_car"] = cosim.demo_manoeuvre(fmu, out)

@@ -77,7 +77,8 @@ def _same_start(v: Variable, written: str | None) -> bool:
 
 def postprocess(xml: bytes, variables: list[Variable], *, guid: str, model: dict[str, str],
                 vendor: dict[str, str], step_size: float = 1e-3,
-                stop_time: float = 1.0) -> bytes:
+                stop_time: float = 1.0, model_identifier: str = MODEL_NAME,
+                source_files: tuple[str, ...] = ()) -> bytes:
     """Rewrite pythonfmu's modelDescription.xml (module docstring).
 
     Parameters
@@ -95,6 +96,12 @@ def postprocess(xml: bytes, variables: list[Variable], *, guid: str, model: dict
         Attributes of the ``VendorAnnotations/Tool[@name='tirefric']/Build`` element.
     step_size, stop_time
         DefaultExperiment [s].
+    model_identifier
+        ``CoSimulation/@modelIdentifier`` (name of the binary): :data:`MODEL_NAME` for the
+        pythonfmu flavour, ``BrushTireNative`` for the native one (:mod:`fmu_src.native_build`,
+        which writes the input XML itself in pythonfmu's form).
+    source_files
+        C files under ``sources/`` to list in ``CoSimulation/SourceFiles`` (native flavour).
 
     Returns
     -------
@@ -129,11 +136,11 @@ def postprocess(xml: bytes, variables: list[Variable], *, guid: str, model: dict
     new = ET.Element("fmiModelDescription", attrs)
 
     cs_old = root.find("CoSimulation")
-    if cs_old is None or cs_old.get("modelIdentifier") != MODEL_NAME:
+    if cs_old is None or cs_old.get("modelIdentifier") != model_identifier:
         raise ModelDescriptionError(f"expected a CoSimulation element with modelIdentifier "
-                                    f"{MODEL_NAME!r}")
-    ET.SubElement(new, "CoSimulation", {
-        "modelIdentifier": MODEL_NAME,
+                                    f"{model_identifier!r}")
+    cs = ET.SubElement(new, "CoSimulation", {
+        "modelIdentifier": model_identifier,
         "needsExecutionTool": cs_old.get("needsExecutionTool", "true"),
         "canHandleVariableCommunicationStepSize": "true",
         "canInterpolateInputs": "false",
@@ -143,6 +150,10 @@ def postprocess(xml: bytes, variables: list[Variable], *, guid: str, model: dict
         "canSerializeFMUstate": "true",
         "providesDirectionalDerivative": "false",
     })
+    if source_files:
+        files = ET.SubElement(cs, "SourceFiles")
+        for name in source_files:
+            ET.SubElement(files, "File", {"name": name})
 
     used = [u for u in UNITS if any(v.unit == u for v in variables)]
     defs = ET.SubElement(new, "UnitDefinitions")
