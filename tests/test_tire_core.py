@@ -254,8 +254,11 @@ def test_parked_car_same_answer_at_every_setting(tire, grid) -> None:
     # 20 C: the grid's mu at 1 um/s is ~0.106 and a 5 % grade holds (the car rocks by a
     # millimetre on the tire); 50 C: mu(1 um/s) is ~0.001, a 10 % grade creeps
     held = [_parked_car(tire, grid, 20.0, 0.05, 2.0, **s) for s in settings]
+    # holding: the car settles ~0.65 mm downhill and rocks about it by ~0.02 mm (a lightly
+    # damped 4 Hz oscillation on the tire), so its mean speed over a second stays below
+    # 5e-5 m/s; creeping at 50 C is 3e-4 m/s
     for v, x in held:
-        assert abs(v) < 2e-5 and 0.0 < x < 5e-3, f"20 C, 5 %: holds (v {v:.2e}, x {x:.2e})"
+        assert abs(v) < 5e-5 and 0.0 < x < 2e-3, f"20 C, 5 %: holds (v {v:.2e}, x {x:.2e})"
     v50 = [_parked_car(tire, grid, 50.0, 0.1, 2.0, **s)[0] for s in settings]
     assert min(v50) > 0.0 and max(v50) / min(v50) < 1.05, f"50 C, 10 %: creep {v50}"
     # the creep speed is where the grid's friction balances the grade (all elements slide
