@@ -108,6 +108,12 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
      "        jx += 0.0 * rx;\n        jy += 0.0 * ry;\n"),
     ("tire core: triangular instead of parabolic pressure", "tire_brush/csrc/tirecore.c",
      "double w = 1.0 - x * x * c->inv_a2;", "double w = 1.0 - fabs(x) * sqrt(c->inv_a2);"),
+    ("tire core: eq. (28) weight frozen at the start of a stage (not along the slip)",
+     "tire_brush/csrc/tirecore.c",
+     "    double E = S->inv_s0 > 0.0 ? cold_weight((S->Zs + S->Hs * V) * S->inv_s0) : 1.0;\n"
+     "    double dm = mc - mh;",
+     "    double E = S->inv_s0 > 0.0 ? cold_weight(S->Zs * S->inv_s0) : 1.0;\n"
+     "    double dm = mc - mh;"),
     ("tire core: road force from the end-of-step friction only", "tire_brush/csrc/tirecore.c",
      "Jx += H * ((1.0 - GAMMA) * o1.fx + GAMMA * o2.fx);", "Jx += H * o2.fx;"),
 ]
