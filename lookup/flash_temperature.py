@@ -1,7 +1,7 @@
 r"""Flash temperature in the macroasperity contacts: the heat kernel of the hot branch.
 
 Model (review sec. 5.1, eqs. 23-27, and the multiscale picture of its ref. [VG]; made concrete
-as in physics-notes "One defensible hot-branch model"). Assumptions, in order:
+as in docs/review-notes.md, "one defensible hot-branch model"). Assumptions, in order:
 
 1. **Where the heat is made.** All frictional heat is produced inside the macroasperity
    contacts of diameter ``D`` (a surface property), which cover the fraction

@@ -1,4 +1,4 @@
-"""Closed-form reference solutions of the review and physics-notes, as package code.
+"""Closed-form reference solutions of the review and docs/review-notes.md, as package code.
 
 Used by the tests (and the docs) to pin the engine: the elastic-limit contact area of eq. (10),
 the angular integrals of the single-relaxation solid of eq. (4), the FWHM of eq. (21), eq. (27)
@@ -20,7 +20,7 @@ def single_relaxation_angular_loss(x: np.ndarray, E0: float, E1: float) -> np.nd
     """int_0^2pi dphi cos(phi) E_I(q v cos phi) for review eq. (4), with x = q v tau'.
 
     Equals (2 pi Delta E / x) (1 - 1/sqrt(1 + x^2)) with Delta E = E1 - E0 and
-    tau' = tau E0/E1 (physics-notes).
+    tau' = tau E0/E1 (docs/review-notes.md).
     """
     x = np.asarray(x, float)
     return 2.0 * np.pi * (E1 - E0) / x * (1.0 - 1.0 / np.sqrt(1.0 + x * x))

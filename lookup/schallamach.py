@@ -21,7 +21,7 @@ is evaluated in log form, so nothing overflows for large x. The shear stress is,
 * ``mean_force="A4"`` (the exact mean spring force of eq. A4 with f = k v t):
   ``sigma_f/sigma* = I_1 / [sqrt(R) (1 + tau_1/tau_0)]``, ``I_1 = int_0^inf x e^{-q(x)} dx``.
 
-Only "A5" reproduces the review's Fig. A2 / physics-notes check (Delta E / k_B T = 3,
+Only "A5" reproduces the review's Fig. A2 / docs/review-notes.md check (Delta E / k_B T = 3,
 nu_0 = nu_1: Gaussian fit ``a exp(-b log10(v/v*)^2)`` with a = 1.172, b = 0.558; "A4" gives
 a = 0.62, b = 0.45): "A5" is the default. The two agree when P(t) is exponential (low speed) and
 differ by up to a factor 2 where detachment is stress-driven (P(t) step-like, high speed).
