@@ -14,8 +14,8 @@ Cold branch (review eqs. 17-20, temperature T0 everywhere):
 with the loss modulus E_I = -Im E >= 0 (docs/review-notes.md, trap 1: the review writes Im E,
 which is negative with its own eq. 4) and the corrected eq. (18) (trap 2). The angular integrals
 use the symmetry of trap 3: 4 x Gauss-Legendre on [0, pi/2]. G(q) is trapezoidal in ln q;
-eq. (17) is integrated in G with the exact Phi(G) = int S P dG (:mod:`lookup.contact`), which follows the
-steep fall of P(q) on glassy rubber that no q-quadrature resolves.
+eq. (17) is integrated in G with the exact Phi(G) = int S P dG (:mod:`lookup.contact`), which
+follows the steep fall of P(q) on glassy rubber that no q-quadrature resolves.
 The real contact area is A/A0 = P(q1) and mu = mu_visc + sigma_f(v, T) P(q1) / sigma0
 (review eq. 12, the text before eq. 17).
 
