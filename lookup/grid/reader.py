@@ -20,8 +20,9 @@ settings), the macroasperity contact diameter ``D_m`` and the blending length ``
 
 Interpolation is multilinear in (log10 v, T, log10 p); optionally monotone cubic along log10 v
 (``v_interp="pchip"``) and along log10 p (``p_interp="pchip"``) and, across T, linear at fixed
-reduced speed log10(v a_T(T)) (``T_interp="reduced_speed"``, :meth:`FrictionGrid.interpolate`). Both log axes use base 10
-(the pressure axis is stored as ``log10_p``; :attr:`FrictionGrid.log_p` is an alias).
+reduced speed log10(v a_T(T)) (``T_interp="reduced_speed"``, :meth:`FrictionGrid.interpolate`).
+Both log axes use base 10 (the pressure axis is stored as ``log10_p``; :attr:`FrictionGrid.log_p`
+is an alias).
 
 Out-of-range policy (explicit, never NaN)
 -----------------------------------------
