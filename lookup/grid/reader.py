@@ -634,10 +634,7 @@ class FrictionGrid:
         ``(fx, fy, fz)`` of the cell along (log10 v, T, log10 p), with ``b`` in {0, 1} (linear
         in T), ``a = 0 .. K`` and ``c = 0 .. L``: K = 1 for ``v_interp="linear"`` and K = 3
         for ``"pchip"`` (the cubic Hermite polynomial of :func:`pchip_slopes` along log10 v);
-        likewise L = 1 or 3 for ``p_interp``. With both cubic, each T node carries the
-        bicubic Hermite patch in (log10 v, log10 p) of the node values, their pchip slopes
-        along v and along p, and as cross derivative the pchip slope along p of the v slopes;
-        it reduces to the 1-D pchip along v on the p nodes and along p on the v nodes.
+        likewise L = 1 or 3 for ``p_interp`` (see :meth:`_patches`).
 
         Returns an array ``Q`` of shape ``(n_cells, 2 (K + 1) (L + 1) len(names))``; row
         ``r``, read as ``(2 (K + 1) (L + 1), len(names))``, holds cell ``r``'s coefficients in
@@ -651,60 +648,75 @@ class FrictionGrid:
         key = (names, v_interp) if p_interp == "linear" else (names, v_interp, p_interp)
         table = self._coef_cache.get(key)
         if table is None:
-            if v_interp not in V_INTERPOLATIONS:
-                raise GridError(f"{self.source}: unknown interpolation along log10 v "
-                                f"{v_interp!r} (known: {', '.join(V_INTERPOLATIONS)})")
-            if p_interp not in P_INTERPOLATIONS:
-                raise GridError(f"{self.source}: unknown interpolation along log10 p "
-                                f"{p_interp!r} (known: {', '.join(P_INTERPOLATIONS)})")
-            for nm in names:
-                if nm not in self.variables:
-                    raise GridError(f"{self.source}: no variable '{nm}' "
-                                    f"(present: {', '.join(self.variables)})")
+            plane = self._coef_cache.get((names, v_interp, p_interp, "plane"))
+            A = self._patches(names, v_interp, p_interp) if plane is None else plane
             nv, nT, np_ = self.shape
             m = len(names)
-            y = np.stack([self.variables[nm] for nm in names], axis=-1)  # (nv, nT, np, m)
-            dv = pchip_slopes(self.log10_v, y) if v_interp == "pchip" else None
-            along_v = _cell_powers(y, dv, self.log10_v, 0)  # fx^a, a = 0 .. K
-            if p_interp == "linear":
-                powers = [[A, _cell_diff(A, 2)] for A in along_v]
-            else:
-                # the p slopes of each v power are the same combination of the p slopes of
-                # the values and (cross derivative) of the v slopes
-                yp = np.moveaxis(pchip_slopes(self.log10_p, np.moveaxis(y, 2, 0)), 0, 2)
-                dvp = (None if dv is None else
-                       np.moveaxis(pchip_slopes(self.log10_p, np.moveaxis(dv, 2, 0)), 0, 2))
-                along_v_p = _cell_powers(yp, dvp, self.log10_v, 0)
-                powers = [_cell_powers(A, Ap, self.log10_p, 2)
-                          for A, Ap in zip(along_v, along_v_p, strict=True)]
-            k, kp = len(powers), len(powers[0])
-            table = np.empty((nv * nT * np_, 2 * k * kp, m))
-            for a_, row in enumerate(powers):
-                for c_, A in enumerate(row):
-                    P = np.pad(A, ((0, 0), (0, 1), (0, 0), (0, 0)), mode="edge")
-                    table[:, c_ * 2 * k + a_, :] = A.reshape(-1, m)
-                    table[:, c_ * 2 * k + k + a_, :] = (P[:, 1:] - A).reshape(-1, m)
-            table = table.reshape(nv * nT * np_, 2 * k * kp * m)
+            A = A.reshape(nv, nT, np_, -1)
+            P = np.pad(A, ((0, 0), (0, 1), (0, 0), (0, 0)), mode="edge")  # b = 1: T step
+            table = np.stack([A, P[:, 1:] - A], axis=-1)  # (..., kp k m, 2)
+            kp_k = A.shape[-1] // m
+            k = 2 if v_interp == "linear" else 4
+            table = table.reshape(nv * nT * np_, kp_k // k, k, m, 2)
+            table = np.ascontiguousarray(table.transpose(0, 1, 4, 2, 3)).reshape(
+                nv * nT * np_, 2 * kp_k * m)
             table.flags.writeable = False
             self._coef_cache[key] = table
         return table
 
     def _plane_coefficients(self, names: tuple[str, ...], v_interp: str,
                             p_interp: str) -> np.ndarray:
-        """The ``b = 0`` part of :meth:`_coefficients` (each cell's patch on its own T node),
-        shape ``(n_cells, (K + 1) (L + 1) len(names))``, index ``c (K + 1) + a``."""
+        """Each cell's patch on its own T node (the ``b = 0`` part of :meth:`_coefficients`),
+        shape ``(n_cells, (K + 1) (L + 1) len(names))``, index ``c (K + 1) + a``; cached."""
         key = (names, v_interp, p_interp, "plane")
         table = self._coef_cache.get(key)
         if table is None:
-            Q = self._coefficients(names, v_interp, p_interp)
-            k = 2 if v_interp == "linear" else 4
-            kp = 2 if p_interp == "linear" else 4
-            m = len(names)
-            table = np.ascontiguousarray(Q.reshape(-1, kp, 2, k, m)[:, :, 0]).reshape(
-                Q.shape[0], kp * k * m)
+            table = self._patches(names, v_interp, p_interp)
             table.flags.writeable = False
             self._coef_cache[key] = table
         return table
+
+    def _patches(self, names: tuple[str, ...], v_interp: str, p_interp: str) -> np.ndarray:
+        """Monomial coefficients ``c_ac`` of ``fx^a fz^c`` of every cell on its own T node,
+        shape ``(n_cells, (K + 1) (L + 1) len(names))`` (not cached).
+
+        Along log10 v and log10 p linear or cubic Hermite with :func:`pchip_slopes`; with both
+        cubic, the bicubic Hermite patch of the node values, their pchip slopes along v and
+        along p, and as cross derivative the pchip slope along p of the v slopes: it reduces to
+        the 1-D pchip along v on the p nodes and along p on the v nodes.
+        """
+        if v_interp not in V_INTERPOLATIONS:
+            raise GridError(f"{self.source}: unknown interpolation along log10 v "
+                            f"{v_interp!r} (known: {', '.join(V_INTERPOLATIONS)})")
+        if p_interp not in P_INTERPOLATIONS:
+            raise GridError(f"{self.source}: unknown interpolation along log10 p "
+                            f"{p_interp!r} (known: {', '.join(P_INTERPOLATIONS)})")
+        for nm in names:
+            if nm not in self.variables:
+                raise GridError(f"{self.source}: no variable '{nm}' "
+                                f"(present: {', '.join(self.variables)})")
+        m = len(names)
+        y = np.stack([self.variables[nm] for nm in names], axis=-1)  # (nv, nT, np, m)
+        dv = pchip_slopes(self.log10_v, y) if v_interp == "pchip" else None
+        along_v = _cell_powers(y, dv, self.log10_v, 0)  # fx^a, a = 0 .. K
+        if p_interp == "linear":
+            powers = [[A, _cell_diff(A, 2)] for A in along_v]
+        else:
+            # the p slopes of each v power are the same combination of the p slopes of the
+            # values and (cross derivative) of the v slopes
+            yp = np.moveaxis(pchip_slopes(self.log10_p, np.moveaxis(y, 2, 0)), 0, 2)
+            dvp = (None if dv is None else
+                   np.moveaxis(pchip_slopes(self.log10_p, np.moveaxis(dv, 2, 0)), 0, 2))
+            along_v_p = _cell_powers(yp, dvp, self.log10_v, 0)
+            powers = [_cell_powers(A, Ap, self.log10_p, 2)
+                      for A, Ap in zip(along_v, along_v_p, strict=True)]
+        k, kp = len(powers), len(powers[0])
+        n = y.shape[0] * y.shape[1] * y.shape[2]
+        table = np.empty((n, kp, k, m))
+        for a_, row in enumerate(powers):
+            for c_, A in enumerate(row):
+                table[:, c_, a_, :] = A.reshape(-1, m)
+        return table.reshape(n, kp * k * m)
 
     def _out_of_range(self, t: np.ndarray, p: np.ndarray) -> None:
         """Refuse NaN coordinates, count and clamp out-of-range ones (in place on ``t``).
@@ -937,11 +949,12 @@ class FrictionGrid:
         if T_interp not in T_INTERPOLATIONS:
             raise GridError(f"{self.source}: unknown interpolation across T {T_interp!r} "
                             f"(known: {', '.join(T_INTERPOLATIONS)})")
-        Q = self._coefficients(names, v_interp, p_interp)
+        reduced = T_interp == "reduced_speed"
+        # the reduced speed reads the T nodes' own patches only
+        Q = (self._plane_coefficients if reduced else self._coefficients)(names, v_interp,
+                                                                          p_interp)
         degree = 1 if v_interp == "linear" else 3
         p_degree = 1 if p_interp == "linear" else 3
-        reduced = T_interp == "reduced_speed"
-        Qp = self._plane_coefficients(names, v_interp, p_interp) if reduced else None
         v, T, p = np.broadcast_arrays(np.asarray(v, dtype=float), np.asarray(T, dtype=float),
                                       np.asarray(p, dtype=float))
         shape = v.shape
@@ -952,7 +965,7 @@ class FrictionGrid:
         for s in range(0, v.size, self._CHUNK):  # cache-sized pieces, as interpolate
             e = s + self._CHUNK
             if reduced:
-                out[:, s:e] = self._reduced_chunk(Q, Qp, len(names), degree, p_degree, v[s:e],
+                out[:, s:e] = self._reduced_chunk(Q, len(names), degree, p_degree, v[s:e],
                                                   T[s:e], p[s:e])
             else:
                 out[:, s:e] = self._interpolate_chunk(Q, len(names), degree, v[s:e], T[s:e],
@@ -961,13 +974,11 @@ class FrictionGrid:
             return dict(zip(names, out, strict=False))
         return {nm: out[k].reshape(shape) for k, nm in enumerate(names)}
 
-    def _reduced_chunk(self, Q: np.ndarray, Qp: np.ndarray, n_names: int, degree: int,
-                       p_degree: int, v: np.ndarray, T: np.ndarray,
-                       p: np.ndarray) -> np.ndarray:
+    def _reduced_chunk(self, Qp: np.ndarray, n_names: int, degree: int, p_degree: int,
+                       v: np.ndarray, T: np.ndarray, p: np.ndarray) -> np.ndarray:
         """``T_interp="reduced_speed"`` on 1-D inputs; values, shape ``(n_names, n)``.
 
-        ``Q`` are the cell coefficients (:meth:`_coefficients`), ``Qp`` their patches on the
-        cells' own T nodes (:meth:`_plane_coefficients`).
+        ``Qp`` are the cells' patches on their own T nodes (:meth:`_plane_coefficients`).
         """
         lv = np.log10(np.maximum(np.abs(v), self._vfloor))
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -1013,8 +1024,12 @@ class FrictionGrid:
             iv = np.trunc(t[0, k])
             cell = (iv * self._strides_f[0] + jT[k] * self._strides_f[1]
                     + ip[k] * self._strides_f[2]).astype(np.intp)
-            out[:, k] = self._evaluate_cells(Q, n_names, degree, cell, t[0, k] - iv,
-                                             fT[k], fp[k], p_degree)
+            lo, hi = (self._evaluate_cells(Qp, n_names, degree, cell + int(u * self._strides_f[1]),
+                                           t[0, k] - iv, None, fp[k], p_degree) for u in (0, 1))
+            hi -= lo
+            hi *= fT[k]
+            hi += lo
+            out[:, k] = hi
         return out
 
     @staticmethod
