@@ -23,7 +23,7 @@ from ..cli import (
     print_table,
 )
 from ..errors import InputError
-from .reader import T_INTERPOLATIONS, V_INTERPOLATIONS
+from .reader import P_INTERPOLATIONS, T_INTERPOLATIONS, V_INTERPOLATIONS
 
 KELVIN = 273.15
 
@@ -71,7 +71,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "fixed log10(v a_T), time-temperature superposition)")
     q.add_argument("--v-interp", choices=V_INTERPOLATIONS, default="linear",
                    help="interpolation along log10 v: linear (default, as the tire model and "
-                        "FMU) or pchip (monotone cubic); linear in T and log p either way")
+                        "FMU) or pchip (monotone cubic)")
+    q.add_argument("--p-interp", choices=P_INTERPOLATIONS, default="linear",
+                   help="interpolation along log10 p: linear (default) or pchip (monotone "
+                        "cubic); --v-interp pchip --T-interp reduced_speed --p-interp pchip is "
+                        "the most accurate (docs/engine-inputs.md)")
     q.add_argument("--json", action="store_true", help="print JSON with a list 'points'")
     q.set_defaults(func=_run_query)
 
@@ -150,14 +154,15 @@ def _run_query(args: argparse.Namespace) -> int:
     grid = load_grid(args.grid)
     names = tuple(k for k in MU_KEYS if k != "v")
     out = grid.interpolate(np.array(v), T_C + KELVIN, p, names=names, v_interp=args.v_interp,
-                           T_interp=args.T_interp)
+                           T_interp=args.T_interp, p_interp=args.p_interp)
     rows = [{"v": vi, **{n: float(out[n][j]) for n in names}} for j, vi in enumerate(v)]
     clamped = {k: c for k, c in grid.out_of_range_detail.items() if c["below"] or c["above"]}
     if args.json:
         dump_json({"grid": grid.source, "hash": grid.hash,
                    "compound": grid.meta.get("compound_name"),
                    "surface": grid.meta.get("surface_name"), "T_C": T_C, "p_Pa": p,
-                   "v_interp": args.v_interp,
+                   "v_interp": args.v_interp, "T_interp": args.T_interp,
+                   "p_interp": args.p_interp,
                    "points": rows, "clamped": clamped})
     else:
         print(f"# grid {grid.source} ({grid.hash[:19]}), T = {T_C:g} C, p = {p:g} Pa")

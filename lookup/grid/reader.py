@@ -19,9 +19,10 @@ settings), the macroasperity contact diameter ``D_m`` and the blending length ``
 (28) in ``physics-notes.md``, and the content hash.
 
 Interpolation is multilinear in (log10 v, T, log10 p); optionally monotone cubic along log10 v
-(``v_interp="pchip"``) and, across T, linear at fixed reduced speed log10(v a_T(T))
-(``T_interp="reduced_speed"``, :meth:`FrictionGrid.interpolate`). Both log axes use base 10
-(the pressure axis is stored as ``log10_p``; :attr:`FrictionGrid.log_p` is an alias).
+(``v_interp="pchip"``) and along log10 p (``p_interp="pchip"``) and, across T, linear at fixed
+reduced speed log10(v a_T(T)) (``T_interp="reduced_speed"``, :meth:`FrictionGrid.interpolate`).
+Both log axes use base 10 (the pressure axis is stored as ``log10_p``; :attr:`FrictionGrid.log_p`
+is an alias).
 
 Out-of-range policy (explicit, never NaN)
 -----------------------------------------
@@ -102,6 +103,8 @@ V_INTERPOLATIONS: tuple[str, ...] = ("linear", "pchip")
 #: log10 v (multilinear), or ``"reduced_speed"``: linear in T at fixed reduced speed
 #: log10(v a_T(T)) (:func:`shift_from_meta`).
 T_INTERPOLATIONS: tuple[str, ...] = ("linear", "reduced_speed")
+#: Interpolations along log10 p offered by :meth:`FrictionGrid.interpolate`.
+P_INTERPOLATIONS: tuple[str, ...] = ("linear", "pchip")
 
 
 def shift_from_meta(meta: Mapping[str, Any], source: str = "grid"):
@@ -208,6 +211,36 @@ def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     d[0] = end(h[0], h[1], delta[0], delta[1])
     d[-1] = end(h[-1], h[-2], delta[-1], delta[-2])
     return d
+
+
+def _cell_diff(A: np.ndarray, axis: int) -> np.ndarray:
+    """Forward difference of ``A`` along ``axis``, 0 on the last node (whose cell is only used
+    with fraction 0)."""
+    d = np.zeros_like(A)
+    sl = [slice(None)] * A.ndim
+    lo, hi = list(sl), list(sl)
+    lo[axis], hi[axis] = slice(None, -1), slice(1, None)
+    d[tuple(lo)] = A[tuple(hi)] - A[tuple(lo)]
+    return d
+
+
+def _cell_powers(y: np.ndarray, d: np.ndarray | None, x: np.ndarray,
+                 axis: int) -> list[np.ndarray]:
+    """Monomial coefficients, per cell along ``axis``, of the interpolant in the fraction f.
+
+    ``d is None``: linear, ``[y, dy]``. Otherwise the cubic Hermite polynomial with node
+    slopes ``d`` (dy/dx): ``[y, h d0, 3 dy - 2 h d0 - h d1, h d0 + h d1 - 2 dy]`` with the
+    cell width h. Cells of the last node are 0 beyond the constant term.
+    """
+    dy = _cell_diff(y, axis)
+    if d is None:
+        return [y, dy]
+    shape = [1] * y.ndim
+    shape[axis] = -1
+    h = np.append(np.diff(x), 0.0).reshape(shape)
+    hd0 = h * d
+    hd1 = h * np.roll(d, -1, axis=axis)  # the last cell's entry is multiplied by h = 0
+    return [y, hd0, 3.0 * dy - 2.0 * hd0 - hd1, hd0 + hd1 - 2.0 * dy]
 
 
 def content_hash(axes: Mapping[str, np.ndarray], variables: Mapping[str, np.ndarray]) -> str:
@@ -593,63 +626,97 @@ class FrictionGrid:
         self._affine_small[n] = arrays  # type: ignore[assignment]
         return arrays  # type: ignore[return-value]
 
-    def _coefficients(self, names: tuple[str, ...], v_interp: str = "linear") -> np.ndarray:
+    def _coefficients(self, names: tuple[str, ...], v_interp: str = "linear",
+                      p_interp: str = "linear") -> np.ndarray:
         """Monomial coefficients of the interpolant of every cell.
 
         The interpolant is ``sum c_abc fx^a fy^b fz^c`` in the fractional coordinates
-        ``(fx, fy, fz)`` of the cell along (log10 v, T, log10 p), with ``b, c`` in {0, 1}
-        (linear in T and log10 p) and ``a = 0 .. K``: K = 1 for ``v_interp="linear"``
-        (trilinear) and K = 3 for ``"pchip"`` (the cubic Hermite polynomial of
-        :func:`pchip_slopes` along log10 v).
+        ``(fx, fy, fz)`` of the cell along (log10 v, T, log10 p), with ``b`` in {0, 1} (linear
+        in T), ``a = 0 .. K`` and ``c = 0 .. L``: K = 1 for ``v_interp="linear"`` and K = 3
+        for ``"pchip"`` (the cubic Hermite polynomial of :func:`pchip_slopes` along log10 v);
+        likewise L = 1 or 3 for ``p_interp`` (see :meth:`_patches`).
 
-        Returns an array ``Q`` of shape ``(n_cells, 4 (K + 1) len(names))``; row ``r``, read as
-        ``(4 (K + 1), len(names))``, holds cell ``r``'s coefficients in the order
-        ``index = c 2 (K + 1) + b (K + 1) + a``, so that the value is evaluated in nested form
-        (z, then y, then a Horner step per power of fx): six array operations for the
-        trilinear case, fewer than forming the eight corner weights. One cell is one
-        contiguous row, so that gathering the cells of a query reads a few cache lines per
-        point.
+        Returns an array ``Q`` of shape ``(n_cells, 2 (K + 1) (L + 1) len(names))``; row
+        ``r``, read as ``(2 (K + 1) (L + 1), len(names))``, holds cell ``r``'s coefficients in
+        the order ``index = c 2 (K + 1) + b (K + 1) + a``, so that the value is evaluated in
+        nested form (Horner in fz, then y, then a Horner step per power of fx): six array
+        operations for the trilinear case, fewer than forming the eight corner weights. One
+        cell is one contiguous row, so that gathering the cells of a query reads a few cache
+        lines per point. The cache key is ``(names, v_interp)`` for a linear p axis and
+        ``(names, v_interp, p_interp)`` otherwise.
         """
-        key = (names, v_interp)
+        key = (names, v_interp) if p_interp == "linear" else (names, v_interp, p_interp)
         table = self._coef_cache.get(key)
         if table is None:
-            if v_interp not in V_INTERPOLATIONS:
-                raise GridError(f"{self.source}: unknown interpolation along log10 v "
-                                f"{v_interp!r} (known: {', '.join(V_INTERPOLATIONS)})")
-            for nm in names:
-                if nm not in self.variables:
-                    raise GridError(f"{self.source}: no variable '{nm}' "
-                                    f"(present: {', '.join(self.variables)})")
+            plane = self._coef_cache.get((names, v_interp, p_interp, "plane"))
+            A = self._patches(names, v_interp, p_interp) if plane is None else plane
             nv, nT, np_ = self.shape
             m = len(names)
-            y = np.stack([self.variables[nm] for nm in names], axis=-1)  # (nv, nT, np, m)
-            # coefficients of fx^a on each v cell (the last node's cell is only used at fx = 0)
-            dy = np.zeros_like(y)
-            dy[:-1] = y[1:] - y[:-1]
-            if v_interp == "linear":
-                powers = [y, dy]
-            else:
-                h = np.diff(self.log10_v)[:, None, None, None]
-                d = pchip_slopes(self.log10_v, y)
-                hd0 = np.zeros_like(y)
-                hd1 = np.zeros_like(y)
-                hd0[:-1] = h * d[:-1]
-                hd1[:-1] = h * d[1:]
-                powers = [y, hd0, 3.0 * dy - 2.0 * hd0 - hd1, hd0 + hd1 - 2.0 * dy]
-            k = len(powers)
-            table = np.empty((nv * nT * np_, 4 * k, m))
-            for a_, A in enumerate(powers):
-                P = np.pad(A, ((0, 0), (0, 1), (0, 1), (0, 0)), mode="edge")
-                A00, A10 = P[:, :nT, :np_], P[:, 1:, :np_]
-                A01, A11 = P[:, :nT, 1:], P[:, 1:, 1:]
-                for (b_, c_), C in zip(((0, 0), (1, 0), (0, 1), (1, 1)),
-                                       (A00, A10 - A00, A01 - A00, A11 - A10 - A01 + A00),
-                                       strict=True):
-                    table[:, c_ * 2 * k + b_ * k + a_, :] = C.reshape(-1, m)
-            table = table.reshape(nv * nT * np_, 4 * k * m)
+            A = A.reshape(nv, nT, np_, -1)
+            P = np.pad(A, ((0, 0), (0, 1), (0, 0), (0, 0)), mode="edge")  # b = 1: T step
+            table = np.stack([A, P[:, 1:] - A], axis=-1)  # (..., kp k m, 2)
+            kp_k = A.shape[-1] // m
+            k = 2 if v_interp == "linear" else 4
+            table = table.reshape(nv * nT * np_, kp_k // k, k, m, 2)
+            table = np.ascontiguousarray(table.transpose(0, 1, 4, 2, 3)).reshape(
+                nv * nT * np_, 2 * kp_k * m)
             table.flags.writeable = False
             self._coef_cache[key] = table
         return table
+
+    def _plane_coefficients(self, names: tuple[str, ...], v_interp: str,
+                            p_interp: str) -> np.ndarray:
+        """Each cell's patch on its own T node (the ``b = 0`` part of :meth:`_coefficients`),
+        shape ``(n_cells, (K + 1) (L + 1) len(names))``, index ``c (K + 1) + a``; cached."""
+        key = (names, v_interp, p_interp, "plane")
+        table = self._coef_cache.get(key)
+        if table is None:
+            table = self._patches(names, v_interp, p_interp)
+            table.flags.writeable = False
+            self._coef_cache[key] = table
+        return table
+
+    def _patches(self, names: tuple[str, ...], v_interp: str, p_interp: str) -> np.ndarray:
+        """Monomial coefficients ``c_ac`` of ``fx^a fz^c`` of every cell on its own T node,
+        shape ``(n_cells, (K + 1) (L + 1) len(names))`` (not cached).
+
+        Along log10 v and log10 p linear or cubic Hermite with :func:`pchip_slopes`; with both
+        cubic, the bicubic Hermite patch of the node values, their pchip slopes along v and
+        along p, and as cross derivative the pchip slope along p of the v slopes: it reduces to
+        the 1-D pchip along v on the p nodes and along p on the v nodes.
+        """
+        if v_interp not in V_INTERPOLATIONS:
+            raise GridError(f"{self.source}: unknown interpolation along log10 v "
+                            f"{v_interp!r} (known: {', '.join(V_INTERPOLATIONS)})")
+        if p_interp not in P_INTERPOLATIONS:
+            raise GridError(f"{self.source}: unknown interpolation along log10 p "
+                            f"{p_interp!r} (known: {', '.join(P_INTERPOLATIONS)})")
+        for nm in names:
+            if nm not in self.variables:
+                raise GridError(f"{self.source}: no variable '{nm}' "
+                                f"(present: {', '.join(self.variables)})")
+        m = len(names)
+        y = np.stack([self.variables[nm] for nm in names], axis=-1)  # (nv, nT, np, m)
+        dv = pchip_slopes(self.log10_v, y) if v_interp == "pchip" else None
+        along_v = _cell_powers(y, dv, self.log10_v, 0)  # fx^a, a = 0 .. K
+        if p_interp == "linear":
+            powers = [[A, _cell_diff(A, 2)] for A in along_v]
+        else:
+            # the p slopes of each v power are the same combination of the p slopes of the
+            # values and (cross derivative) of the v slopes
+            yp = np.moveaxis(pchip_slopes(self.log10_p, np.moveaxis(y, 2, 0)), 0, 2)
+            dvp = (None if dv is None else
+                   np.moveaxis(pchip_slopes(self.log10_p, np.moveaxis(dv, 2, 0)), 0, 2))
+            along_v_p = _cell_powers(yp, dvp, self.log10_v, 0)
+            powers = [_cell_powers(A, Ap, self.log10_p, 2)
+                      for A, Ap in zip(along_v, along_v_p, strict=True)]
+        k, kp = len(powers), len(powers[0])
+        n = y.shape[0] * y.shape[1] * y.shape[2]
+        table = np.empty((n, kp, k, m))
+        for a_, row in enumerate(powers):
+            for c_, A in enumerate(row):
+                table[:, c_, a_, :] = A.reshape(-1, m)
+        return table.reshape(n, kp * k * m)
 
     def _out_of_range(self, t: np.ndarray, p: np.ndarray) -> None:
         """Refuse NaN coordinates, count and clamp out-of-range ones (in place on ``t``).
@@ -680,8 +747,15 @@ class FrictionGrid:
         names: Sequence[str] = DEFAULT_NAMES,
         v_interp: str = "linear",
         T_interp: str = "linear",
+        p_interp: str = "linear",
     ) -> dict[str, np.ndarray]:
-        """Interpolation in (log10 |v|, T, log10 p): multilinear, or monotone cubic along v.
+        """Interpolation in (log10 |v|, T, log10 p): multilinear by default; optionally monotone
+        cubic along v and p and across T at fixed reduced speed.
+
+        The most accurate combination is ``v_interp="pchip", T_interp="reduced_speed",
+        p_interp="pchip"`` (shipped default grid, cold branch, all axes off-node: max 0.31 %
+        against the engine instead of 1.7 %, ``docs/engine-inputs.md``); the default stays the
+        multilinear one (about ten times faster, what the tire model reads).
 
         Parameters
         ----------
@@ -697,23 +771,36 @@ class FrictionGrid:
         v_interp
             Along log10 v: ``"linear"`` (default; trilinear interpolation) or ``"pchip"``
             (piecewise cubic Hermite with Fritsch-Carlson slopes, :func:`pchip_slopes`: it
-            keeps monotone runs of the nodes monotone and does not overshoot; linear in T and
-            log10 p either way). Both reproduce the node values.
+            keeps monotone runs of the nodes monotone and does not overshoot). Both reproduce
+            the node values.
         T_interp
             Across T: ``"linear"`` (default; at fixed log10 v) or ``"reduced_speed"``: linear
             in T at fixed reduced speed log10(v a_T(T)). With the two T nodes T_j <= T <=
             T_j+1 around the query, each node is read (along v as ``v_interp`` says, linearly
-            in log10 p) at the speed with the query's reduced speed, log10 v + log10 a_T(T) -
+            in log10 p or as ``p_interp`` says) at the speed with the query's reduced speed,
+            log10 v + log10 a_T(T) -
             log10 a_T(T_j), and the two values are blended linearly in T. By
             time-temperature superposition (review sec. 2: E(omega, T) = E(omega a_T, T_ref))
             the cold branch without frictional heating depends on v and T only through
             v a_T(T) when the adhesive law shifts with the bulk a_T, so this removes the T part
             of the interpolation error there; elsewhere (hot branch, an Arrhenius adhesive
             shift) it follows the dominant viscoelastic shift. a_T comes from the grid's
-            provenance (:func:`shift_from_meta`). Where a shifted speed leaves the v axis
-            (queries within the T-shift of v_min or v_max) the point is interpolated across
-            T at fixed log10 v, as with ``"linear"``; out-of-range counting and clamping of
-            the query are the same for both.
+            provenance (:func:`shift_from_meta`). Queries within one T step's shift of the v
+            axis ends: where the lower node's shifted speed falls below v_min, the upper node
+            alone is read at the query's reduced speed (exact for the cold branch under
+            time-temperature superposition; on the default grid this band had errors up to
+            1.1 % with fixed-v interpolation, 0.11 % so); where the upper node's shifted speed
+            exceeds v_max, the point is interpolated across T at fixed log10 v (there the hot
+            branch, 50-110 K of flash heating, is far from superposition: a one-sided read
+            errs by up to 5.5 %, fixed v by 0.5 %; the cold branch by 0.1 % either way).
+            Out-of-range counting and clamping of the query are the same as with
+            ``"linear"``.
+        p_interp
+            Along log10 p: ``"linear"`` (default) or ``"pchip"``: the cubic Hermite polynomial
+            with the slopes of :func:`pchip_slopes` along log10 p; with ``v_interp="pchip"``
+            the bicubic Hermite patch of :meth:`_coefficients`. It removes the pressure part
+            of the error (up to 0.6 % between the highest pressure nodes of the default
+            grid, where mu(log10 p) bends).
 
         Returns
         -------
@@ -723,8 +810,8 @@ class FrictionGrid:
         Raises
         ------
         GridError
-            NaN in a query coordinate, a negative pressure, or an unknown variable name or
-            ``v_interp``.
+            NaN in a query coordinate, a negative pressure, or an unknown variable name,
+            ``v_interp``, ``T_interp`` or ``p_interp``.
 
         Notes
         -----
@@ -734,14 +821,15 @@ class FrictionGrid:
         monomial coefficients (:meth:`_coefficients`) are gathered as one row per point and
         the trilinear polynomial is evaluated in nested form. A call costs about 20 numpy
         operations, about 15 us, plus 0.03-0.07 us per point (``benchmarks/bench_grid.py``);
-        queries longer than :attr:`_CHUNK` points are evaluated chunk by chunk.
+        queries longer than :attr:`_CHUNK` points are evaluated chunk by chunk. The options
+        cost more (``benchmarks/bench_grid.py`` prints them).
 
         A pressure p = 0 gives ``log10 p = -inf`` (numpy warns), is read at the lowest
         pressure and counted; a negative pressure is refused.
         """
         names = names if type(names) is tuple else tuple(names)
-        if T_interp != "linear":
-            return self._interpolate_reduced(v, T, p, names, v_interp, T_interp)
+        if T_interp != "linear" or p_interp != "linear":
+            return self._interpolate_general(v, T, p, names, v_interp, T_interp, p_interp)
         Q = self._coef_cache.get((names, v_interp))
         if Q is None:
             Q = self._coefficients(names, v_interp)
@@ -772,7 +860,7 @@ class FrictionGrid:
 
     def _interpolate_chunk(
         self, Q: np.ndarray, n_names: int, degree: int, v: np.ndarray, T: np.ndarray,
-        p: np.ndarray,
+        p: np.ndarray, p_degree: int = 1,
     ) -> np.ndarray:
         """The interpolation of :meth:`interpolate` on 1-D inputs of one length ``n`` > 0.
 
@@ -812,6 +900,8 @@ class FrictionGrid:
         t -= node
         # flat cell index, exact in float64 (< 2**53); float ops avoid int-float mixing
         cell = (self._strides_f @ node).astype(np.intp)
+        if p_degree != 1:
+            return self._evaluate_cells(Q, n_names, degree, cell, t[0], t[1], t[2], p_degree)
         k = degree + 1
         c = Q.take(cell, axis=0).T.copy().reshape(4 * k, n_names, n)
         a = c[2 * k:]  # c is a fresh copy: safe to update in place
@@ -828,11 +918,11 @@ class FrictionGrid:
 
     def interpolate_one(
         self, name: str, v: Any, T: Any, p: Any, v_interp: str = "linear",
-        T_interp: str = "linear",
+        T_interp: str = "linear", p_interp: str = "linear",
     ) -> np.ndarray:
         """One variable; shorthand for ``interpolate(v, T, p, (name,), v_interp,
-        T_interp)[name]``."""
-        return self.interpolate(v, T, p, (name,), v_interp, T_interp)[name]
+        T_interp, p_interp)[name]``."""
+        return self.interpolate(v, T, p, (name,), v_interp, T_interp, p_interp)[name]
 
     def log10_aT(self, T: Any) -> np.ndarray:
         """log10 a_T(T) of the grid's compound (T in K), from its metadata; the law is
@@ -851,17 +941,20 @@ class FrictionGrid:
                           right=np.inf)
         return t
 
-    def _interpolate_reduced(
+    def _interpolate_general(
         self, v: Any, T: Any, p: Any, names: tuple[str, ...], v_interp: str, T_interp: str,
+        p_interp: str,
     ) -> dict[str, np.ndarray]:
-        """:meth:`interpolate` with ``T_interp="reduced_speed"`` (see there)."""
+        """:meth:`interpolate` with ``T_interp="reduced_speed"`` or ``p_interp="pchip"``."""
         if T_interp not in T_INTERPOLATIONS:
             raise GridError(f"{self.source}: unknown interpolation across T {T_interp!r} "
                             f"(known: {', '.join(T_INTERPOLATIONS)})")
-        Q = self._coef_cache.get((names, v_interp))
-        if Q is None:
-            Q = self._coefficients(names, v_interp)
+        reduced = T_interp == "reduced_speed"
+        # the reduced speed reads the T nodes' own patches only
+        Q = (self._plane_coefficients if reduced else self._coefficients)(names, v_interp,
+                                                                          p_interp)
         degree = 1 if v_interp == "linear" else 3
+        p_degree = 1 if p_interp == "linear" else 3
         v, T, p = np.broadcast_arrays(np.asarray(v, dtype=float), np.asarray(T, dtype=float),
                                       np.asarray(p, dtype=float))
         shape = v.shape
@@ -871,14 +964,22 @@ class FrictionGrid:
         out = np.empty((len(names), v.size))
         for s in range(0, v.size, self._CHUNK):  # cache-sized pieces, as interpolate
             e = s + self._CHUNK
-            out[:, s:e] = self._reduced_chunk(Q, len(names), degree, v[s:e], T[s:e], p[s:e])
+            if reduced:
+                out[:, s:e] = self._reduced_chunk(Q, len(names), degree, p_degree, v[s:e],
+                                                  T[s:e], p[s:e])
+            else:
+                out[:, s:e] = self._interpolate_chunk(Q, len(names), degree, v[s:e], T[s:e],
+                                                      p[s:e], p_degree)
         if len(shape) == 1:
             return dict(zip(names, out, strict=False))
         return {nm: out[k].reshape(shape) for k, nm in enumerate(names)}
 
-    def _reduced_chunk(self, Q: np.ndarray, n_names: int, degree: int, v: np.ndarray,
-                       T: np.ndarray, p: np.ndarray) -> np.ndarray:
-        """:meth:`_interpolate_reduced` on 1-D inputs; values, shape ``(n_names, n)``."""
+    def _reduced_chunk(self, Qp: np.ndarray, n_names: int, degree: int, p_degree: int,
+                       v: np.ndarray, T: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """``T_interp="reduced_speed"`` on 1-D inputs; values, shape ``(n_names, n)``.
+
+        ``Qp`` are the cells' patches on their own T nodes (:meth:`_plane_coefficients`).
+        """
         lv = np.log10(np.maximum(np.abs(v), self._vfloor))
         with np.errstate(divide="ignore", invalid="ignore"):
             lp = np.log10(p)
@@ -898,45 +999,62 @@ class FrictionGrid:
         ip = np.trunc(t[2])
         fp = t[2] - ip
         nmax_v = self._nmax[0, 0]
-        out = np.zeros((n_names, v.size))
-        outside = np.zeros(v.size, dtype=bool)
-        for upper, w in ((0.0, 1.0 - fT), (1.0, fT)):
-            tv = self._indices(0, lv + (la_q - la_nodes[j + int(upper)]))
-            outside |= (tv < 0.0) | (tv > nmax_v)
+        vals = []
+        inside = []
+        for upper in (0, 1):
+            # node jT + upper, read on its own patch (cell (iv, jT + upper, ip), fy = 0)
+            tv = self._indices(0, lv + (la_q - la_nodes[j + upper]))
+            inside.append((tv >= 0.0) & (tv <= nmax_v))
             np.clip(tv, 0.0, nmax_v, out=tv)
             iv = np.trunc(tv)
-            # the cell (iv, jT, ip), read at T fraction 0 (node jT) or 1 (node jT + 1)
-            cell = (iv * self._strides_f[0] + jT * self._strides_f[1]
+            cell = (iv * self._strides_f[0] + (jT + upper) * self._strides_f[1]
                     + ip * self._strides_f[2]).astype(np.intp)
-            out += w * self._evaluate_cells(Q, n_names, degree, cell, tv - iv,
-                                            np.full_like(tv, upper), fp)
-        if outside.any():
-            # the shifted speed left the v axis at a T node: such points (next to v_min or
-            # v_max) are interpolated across T at fixed log10 v instead, as with "linear"
-            k = np.flatnonzero(outside)
+            vals.append(self._evaluate_cells(Qp, n_names, degree, cell, tv - iv, None, fp,
+                                             p_degree))
+        # next to v_min the lower node's shifted speed falls below the v axis: the upper node
+        # alone is read at the query's reduced speed (exact for the cold branch by TTS)
+        w = np.where(inside[0], fT, 1.0)
+        out = vals[0]
+        out += w * (vals[1] - vals[0])
+        fixed = ~inside[1]
+        if fixed.any():
+            # next to v_max (the upper node's shifted speed above the axis): across T at
+            # fixed log10 v (a one-sided read there errs by up to 5 % on the hot branch)
+            k = np.flatnonzero(fixed)
             iv = np.trunc(t[0, k])
             cell = (iv * self._strides_f[0] + jT[k] * self._strides_f[1]
                     + ip[k] * self._strides_f[2]).astype(np.intp)
-            out[:, k] = self._evaluate_cells(Q, n_names, degree, cell, t[0, k] - iv,
-                                             fT[k], fp[k])
+            lo, hi = (self._evaluate_cells(Qp, n_names, degree, cell + int(u * self._strides_f[1]),
+                                           t[0, k] - iv, None, fp[k], p_degree) for u in (0, 1))
+            hi -= lo
+            hi *= fT[k]
+            hi += lo
+            out[:, k] = hi
         return out
 
     @staticmethod
     def _evaluate_cells(Q: np.ndarray, n_names: int, degree: int, cell: np.ndarray,
-                        fx: np.ndarray, fy: np.ndarray, fz: np.ndarray) -> np.ndarray:
-        """The cell polynomials of :meth:`_coefficients` at fractions (fx, fy, fz)."""
+                        fx: np.ndarray, fy: np.ndarray | None, fz: np.ndarray,
+                        p_degree: int = 1) -> np.ndarray:
+        """The cell polynomials of :meth:`_coefficients` at fractions (fx, fy, fz); with
+        ``fy=None`` those of :meth:`_plane_coefficients` (no T term)."""
         k = degree + 1
-        c = Q.take(cell, axis=0).T.copy().reshape(4 * k, n_names, cell.size)
-        a = c[2 * k:]
-        a *= fz
-        a += c[:2 * k]
-        b = a[k:]
-        b *= fy
-        b += a[:k]
-        out = b[degree]
+        nb = 1 if fy is None else 2
+        blk = nb * k
+        c = Q.take(cell, axis=0).T.copy().reshape((p_degree + 1) * blk, n_names, cell.size)
+        a = c[p_degree * blk:]  # c is a fresh copy: safe to update in place; Horner in fz
+        for jj in range(p_degree - 1, -1, -1):
+            a *= fz
+            a += c[jj * blk:(jj + 1) * blk]
+        if fy is not None:
+            b = a[k:]
+            b *= fy
+            b += a[:k]
+            a = b
+        out = a[degree]  # Horner in fx
         for jj in range(degree - 1, -1, -1):
             out *= fx
-            out += b[jj]
+            out += a[jj]
         return out
 
     # -- numpy-only persistence ---------------------------------------------------------------
