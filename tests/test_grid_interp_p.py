@@ -235,7 +235,7 @@ def test_default_grid_best_scheme_against_engine() -> None:
                     (f"mu_hot ({away.sum()} away from the fold)", eh)):
         print(f"{name}: median {np.median(x):.3%}, p95 {np.percentile(x, 95):.3%}, "
               f"max {x.max():.3%}")
-    assert e.max() < 5e-3, "issue 15: max < 0.5 % off-node for mu_cold"
+    assert e.max() < 5e-3, "target: max < 0.5 % off-node for mu_cold"
     assert np.percentile(e, 95) < 1e-3
     assert e0.max() > 1e-2
     assert ea.max() < 1e-2

@@ -16,7 +16,7 @@ cold and hot friction coefficient with their viscoelastic and contact (adhesive)
 relative real contact area A/A0 of both branches, the flash temperature rise and the residual
 of the hot self-consistent solve. ``meta`` carries provenance (compound, surface, engine
 settings), the macroasperity contact diameter ``D_m`` and the blending length ``s0_m`` of eq.
-(28) in ``physics-notes.md``, and the content hash.
+(28) in ``docs/review-notes.md``, and the content hash.
 
 Interpolation is multilinear in (log10 v, T, log10 p); optionally monotone cubic along log10 v
 (``v_interp="pchip"``) and along log10 p (``p_interp="pchip"``) and, across T, linear at fixed
@@ -448,7 +448,7 @@ class FrictionGrid:
             Friction coefficients of the cold and hot branch on every node.
         s0_m
             Blending slip length s0 of eq. (28) [m]; default ``0.2 * D_m``
-            (physics-notes: s0 ~ 0.2 D).
+            (docs/review-notes.md: s0 ~ 0.2 D).
         D_m
             Macroasperity contact diameter D [m].
         dT_flash
