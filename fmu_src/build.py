@@ -188,6 +188,26 @@ def _grid_npz(grid: Any) -> bytes:
     return _deterministic_zip(members)
 
 
+def write_fmu(entries: dict[str, bytes], output: Path, *, validate: bool, what: str) -> bytes:
+    """Zip ``entries`` deterministically into ``output`` (written as ``output.part`` first,
+    validated with fmpy if asked, then moved into place; a failed validation leaves nothing)
+    and return the archive's bytes. Shared by both FMU flavours."""
+    data = _deterministic_zip(entries)
+    output.parent.mkdir(parents=True, exist_ok=True)
+    part = output.with_name(output.name + ".part")
+    part.write_bytes(data)
+    if validate:
+        from fmpy.validation import validate_fmu
+
+        problems = validate_fmu(str(part))
+        if problems:
+            part.unlink()
+            raise BuildError(f"{what} failed validation:\n" +
+                             "\n".join(f"  - {p}" for p in problems))
+    os.replace(part, output)
+    return data
+
+
 def _json_bytes(obj: Any) -> bytes:
     return (json.dumps(obj, indent=1, sort_keys=True, allow_nan=False) + "\n").encode()
 
@@ -371,19 +391,7 @@ def build_fmu(tire: str | Path | TireParams, grid: str | Path | Any, output: str
         entries["modelDescription.xml"] = postprocess(
             entries["modelDescription.xml"], variables_, guid=guid, model=build["model"],
             vendor=vendor, step_size=1e-3)
-        data = _deterministic_zip(entries)
-        output.parent.mkdir(parents=True, exist_ok=True)
-        part = output.with_name(output.name + ".part")
-        part.write_bytes(data)
-        if validate:
-            from fmpy.validation import validate_fmu
-
-            problems = validate_fmu(str(part))
-            if problems:
-                part.unlink()
-                raise BuildError("the FMU failed validation:\n" +
-                                 "\n".join(f"  - {p}" for p in problems))
-        os.replace(part, output)
+        data = write_fmu(entries, output, validate=validate, what="the FMU")
     return BuildReport(path=output, guid=guid, build_id=build["build_id"],
                        sha256="sha256:" + hashlib.sha256(data).hexdigest(),
                        size_bytes=len(data), tire=tire_p.name, grid_hash=grid_o.hash,

@@ -57,11 +57,11 @@ from .build import (
     BuildError,
     BuildOptions,
     BuildReport,
-    _deterministic_zip,
     _json_bytes,
     _load_inputs,
     guid_of,
     stage_resources,
+    write_fmu,
 )
 from .interface import INPUTS, LIMITS, OUTPUTS, Variable, variables
 from .model_description import postprocess
@@ -196,7 +196,8 @@ def _param_assignments(index: dict[str, int]) -> list[str]:
             lines.append(f"    P->n_elements = (int)v[{index['n_elements']}];")
         else:
             vr = getattr(P, fname)
-            assert float(vr).is_integer(), fname
+            if not float(vr).is_integer():
+                raise BuildError(f"tf_params.{fname} has no FMU variable (value {vr})")
             lines.append(f"    P->{fname} = v[{int(vr)}];")
     return lines
 
@@ -452,19 +453,7 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
             base_model_description(vars_), vars_, guid=guid, model=build["model"],
             vendor=vendor, step_size=1e-3, model_identifier=MODEL_IDENTIFIER,
             source_files=C_SOURCES)
-        data = _deterministic_zip(entries)
-        output.parent.mkdir(parents=True, exist_ok=True)
-        part = output.with_name(output.name + ".part")
-        part.write_bytes(data)
-        if validate:
-            from fmpy.validation import validate_fmu
-
-            problems = validate_fmu(str(part))
-            if problems:
-                part.unlink()
-                raise BuildError("the native FMU failed validation:\n" +
-                                 "\n".join(f"  - {p}" for p in problems))
-        os.replace(part, output)
+        data = write_fmu(entries, output, validate=validate, what="the native FMU")
     return BuildReport(path=output, guid=guid, build_id=build_id,
                        sha256="sha256:" + hashlib.sha256(data).hexdigest(),
                        size_bytes=len(data), tire=tire_p.name, grid_hash=grid_o.hash,
