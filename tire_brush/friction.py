@@ -19,14 +19,9 @@ Friction providers follow the small protocol :class:`FrictionModel` (``branches`
 
 The brush model evaluates friction through :class:`BranchTable`, a multilinear table on
 (log10 v, T, log10 p) built once from the provider (for a grid: its own nodes, so the table
-reproduces the grid's interpolation exactly). It is specialised for the model's inner loop:
-the temperature is one number per step, the pressure indices and the stick threshold (the
-branches at v -> 0) are prepared once per step (:meth:`BranchTable.prepare`) and reused for
-every speed, and each look-up also returns the exact slope d mu / d ln v that the implicit
-element step needs (profiled: ~15 us for 100 elements with slopes, against ~35 us for one
-general interpolation call without them). The transient model reads it through
-:meth:`BranchTable.at_sliding` (speeds at or above the first node, rows returned one by one:
-~12 us for 100 elements on the default grid).
+reproduces the grid's interpolation exactly). The compiled tire core takes its node values
+(:mod:`tire_brush.ccore`) and interpolates them itself, with the same clamping
+(docs/tire-core.md); :meth:`BranchTable.evaluate` is the general evaluation in numpy.
 
 Out of range (explicit, never NaN): speeds below the first node (including v = 0, a sticking
 element) are read at the first node, the table's low-speed limit; speeds above the last node,
@@ -41,7 +36,6 @@ from __future__ import annotations
 
 import math
 import weakref
-from dataclasses import dataclass
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
@@ -60,8 +54,6 @@ _INV_S0_MAX = 1e100
 #: from 10 kPa to 10 MPa.
 DEFAULT_NODES = (np.linspace(-8.0, 2.0, 201), np.linspace(233.15, 423.15, 39),
                  np.linspace(4.0, 7.0, 31))
-#: Zero as a 0-d array (a cheaper ufunc operand than a Python float).
-_ZERO = np.array(0.0)
 #: Tables built from a grid object, by s0 (:meth:`BranchTable.from_model`).
 _SHARED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -215,32 +207,6 @@ def _axis_index(axis: np.ndarray) -> tuple[bool, float, float]:
     return uniform, float(axis[0]), float((axis.size - 1) / (axis[-1] - axis[0]))
 
 
-@dataclass(slots=True)
-class FrictionQuery:
-    """A prepared friction query: one temperature, fixed pressures (:meth:`BranchTable.prepare`).
-
-    Attributes
-    ----------
-    base : ndarray
-        Flat cell index of the (T, p) part, per element.
-    fp : ndarray
-        Fraction along log10 p, per element.
-    fT : float
-        Fraction along T.
-    mu0 : ndarray
-        ``(mu_cold, mu_hot)`` at v -> 0, shape ``(2, *p.shape)``.
-    """
-
-    base: np.ndarray
-    fp: np.ndarray
-    fT: float
-    mu0: np.ndarray
-
-    def __getitem__(self, j) -> FrictionQuery:
-        """The query of element row ``j`` (for a march over rows)."""
-        return FrictionQuery(self.base[j], self.fp[j], self.fT, self.mu0[:, j])
-
-
 class BranchTable:
     """Multilinear table of ``(mu_cold, mu_hot, dT_flash)`` on (log10 v, T, log10 p).
 
@@ -285,14 +251,7 @@ class BranchTable:
         nv, nT, np_ = shape[:3]
         self._n = (nv - 1.0, nT - 1.0, np_ - 1.0)
         self._ax = [_axis_index(a) for a in axes]
-        # axis constants as 0-d arrays (cheaper ufunc operands than Python floats)
-        self._v_axis = tuple(np.array(x) for x in (self._ax[0][1], self._ax[0][2], self._n[0]))
-        self._p_axis = tuple(np.array(x) for x in (self._ax[2][1], self._ax[2][2], self._n[2],
-                                                   self.p_floor))
         self._stride_v = nT * np_
-        self._stride_v0 = np.array(self._stride_v, dtype=np.intp)
-        # 1 / (ln 10 * spacing) of every log10-v cell (the last one is a padded, flat cell)
-        self._inv_dlnv = np.append(1.0 / (np.log(10.0) * np.diff(self.log10_v)), 0.0)
         self._stride_T = np_
         # monomial coefficients of every cell (one per node; the last node's cells reach into
         # an edge-padded layer and are used with fraction 0 only), read as (8, 3, n_cells)
@@ -315,12 +274,7 @@ class BranchTable:
         # the whole table: 100 cells of the default grid took ~2.2 us to gather against
         # ~0.7 us, plus ~0.9 us to transpose the gathered rows)
         self._QT = np.ascontiguousarray(Q.reshape(24, -1).T)
-        # stick-threshold rows at the first speed node, per temperature cell: monomials
-        # (p, T p) and (1, T) of mu_cold and mu_hot, shape (nT, 4, np) each (:meth:`prepare`)
-        Qv0 = Q[:, 0:2, :nT * np_].reshape(8, 2, nT, np_).transpose(2, 0, 1, 3)
-        self._low_base = np.ascontiguousarray(Qv0[:, [4, 0]].reshape(nT, 4, np_))
-        self._low_T = np.ascontiguousarray(Qv0[:, [6, 2]].reshape(nT, 4, np_))
-        self._low: tuple = (None, np.empty((4, 0)))
+
 
     @classmethod
     def from_model(cls, model: FrictionModel) -> BranchTable:
@@ -383,138 +337,10 @@ class BranchTable:
         np.minimum(t, self._n[k], out=t)
         return t
 
-    def pressure_index(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Cell index and fraction along log10 p for pressures ``p`` [Pa] (``p`` below the
-        first node, including 0, reads the first node)."""
-        t = self._t(2, np.log10(np.maximum(p, self.p_floor)))
-        i = t.astype(np.intp)
-        return i, t - i
-
-    def prepare(self, T: float, p: np.ndarray) -> FrictionQuery:
-        """Everything a step needs at one temperature ``T`` [K] and fixed pressures ``p`` [Pa]
-        (any shape): table indices and the branches at v -> 0 (the stick threshold)."""
-        uniform, lo, inv = self._ax[1]
-        if uniform:                                   # _t(1, T), inlined
-            tT = min(max((float(T) - lo) * inv, 0.0), self._n[1])
-        else:
-            tT = self._t(1, float(T))
-        iT = int(tT)
-        fT = tT - iT
-        if self._ax[2][0]:                          # pressure_index, inlined
-            lo, inv, top, p_floor = self._p_axis
-            tp = np.maximum(p, p_floor)
-            np.log10(tp, out=tp)
-            tp -= lo
-            tp *= inv
-            np.maximum(tp, _ZERO, out=tp)
-            np.minimum(tp, top, out=tp)
-            ip = tp.astype(np.intp)
-            tp -= ip
-            fp = tp
-        else:
-            ip, fp = self.pressure_index(p)
-        low_T, L = self._low                          # one tuple: safe to share across threads
-        if low_T != T:
-            # rows (p, T p) and (1, T) of both branches at the first speed node, this T
-            L = self._low_T[iT] * fT
-            L += self._low_base[iT]
-            self._low = (T, L)
-        M = L.take(ip, axis=1)                       # (4, *p.shape)
-        mu0 = M[0:2]
-        if fp.ndim == 1:                              # two rows: cheaper than broadcasting
-            M[0] *= fp
-            M[1] *= fp
-        else:
-            mu0 *= fp
-        mu0 += M[2:4]
-        ip += iT * self._stride_T
-        return FrictionQuery(ip, fp, fT, mu0)
-
     def _cells(self, cell: np.ndarray) -> np.ndarray:
         """Monomial coefficients of the cells ``cell`` (flat indices, any shape), shape
         ``(8, 3, *cell.shape)``."""
         return self._QT.take(cell.ravel(), axis=0).T.copy().reshape(8, 3, *cell.shape)
-
-    def at(self, v: np.ndarray, q: FrictionQuery,
-           slope: bool = False) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
-        """Branches at speeds ``v`` [m/s] (shape of the query's pressures) for a prepared query.
-
-        Returns
-        -------
-        ndarray or (ndarray, ndarray)
-            Values, shape ``(3, *v.shape)``: mu_cold, mu_hot [1], dT_flash [K]; with ``slope``
-            also ``d(mu_cold, mu_hot)/d ln v``, shape ``(2, *v.shape)`` (at a node: the slope of
-            the cell above; zero below the first node, where the table is constant, and above
-            the last).
-        """
-        tv = self._t(0, np.log10(np.maximum(v, self.v_floor)))
-        iv = tv.astype(np.intp)
-        fv = tv - iv
-        cell = iv * self._stride_v
-        cell += q.base
-        c = self._cells(cell)
-        a = c[4:8]
-        a *= q.fp
-        a += c[0:4]
-        b = a[2:4] * q.fT
-        b += a[0:2]
-        out = b[1] * fv
-        out += b[0]
-        if not slope:
-            return out
-        d = b[1, 0:2] * self._inv_dlnv.take(iv)
-        d *= v >= self.v_floor
-        return out, d
-
-    def at_sliding(self, v: np.ndarray, q: FrictionQuery) -> tuple[np.ndarray, ...]:
-        """:meth:`at` with slopes for speeds ``v >= v_floor`` [m/s] (1-D), as rows.
-
-        The same arithmetic as ``at(v, q, slope=True)`` without the clamp to ``v_floor`` and
-        the zero slope below it, which are void for such speeds (the implicit element step
-        keeps its linearisation speed at or above ``v_floor``). Rows are returned one by one
-        (numpy's broadcasting machinery costs more than a same-shape call per row here).
-
-        Returns
-        -------
-        tuple of ndarray
-            ``(mu_cold, mu_hot, dT_flash, dmu_cold/dln v, dmu_hot/dln v)``, each shape
-            ``(n,)`` [1, 1, K, 1, 1].
-        """
-        multiply = np.multiply
-        tv = np.log10(v)
-        if self._ax[0][0]:
-            lo, inv, top = self._v_axis
-            tv -= lo
-            tv *= inv
-            np.maximum(tv, _ZERO, out=tv)
-            np.minimum(tv, top, out=tv)
-        else:
-            tv = self._t(0, tv)
-        iv = tv.astype(np.intp)
-        tv -= iv
-        cell = iv * self._stride_v0
-        cell += q.base
-        c = self._QT.take(cell, axis=0).T.copy().reshape(8, 3, -1)
-        a = c[4:8]
-        a *= q.fp
-        a += c[0:4]
-        b = a[2:4] * q.fT
-        b += a[0:2]
-        b1c, b1h = b[1, 0], b[1, 1]
-        mu_c = multiply(b1c, tv)
-        mu_c += b[0, 0]
-        mu_h = multiply(b1h, tv)
-        mu_h += b[0, 1]
-        dT = multiply(b[1, 2], tv)
-        dT += b[0, 2]
-        inv_dlnv = self._inv_dlnv.take(iv)
-        return mu_c, mu_h, dT, multiply(b1c, inv_dlnv), multiply(b1h, inv_dlnv)
-
-    def evaluate_at(self, v: np.ndarray, T: float, p: np.ndarray,
-                    slope: bool = False) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
-        """Branches at speeds ``v`` [m/s], one temperature ``T`` [K] and pressures ``p`` [Pa]
-        of the same shape (:meth:`prepare` then :meth:`at`)."""
-        return self.at(np.asarray(v, float), self.prepare(T, np.asarray(p, float)), slope)
 
     def evaluate(self, v: Any, T: Any, p: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """General evaluation with numpy broadcasting: ``(mu_cold, mu_hot, dT_flash)``."""
