@@ -394,3 +394,26 @@ def test_diagnostics_mu_slide_and_flash_temperature(tire) -> None:
     assert o.mu_eff == pytest.approx(0.4, rel=1e-3), "locked wheel: |F| = mu_scale mu_hot Fz"
     free = SteadyBrush(tire, GridFriction(grid)).solve(0.0, 0.0, 20.0, FZ, T20)
     assert float(free.sliding_fraction) == 0.0 and float(free.dT_flash_max) == 0.0
+
+
+def test_tiny_and_subnormal_steps_are_defined(tire, grid) -> None:
+    """A step below 1 ns (the floor; element sub-steps stop at 10 ns) changes nothing but
+    the clock: the forces after doStep(1e-12) equal those before (the old core moved Fx by
+    10 % of Fz), subnormal steps too, and a normal step afterwards continues as if the tiny
+    one had not been there."""
+    u = (27.8, 0.0, 27.8 * 0.9 / tire.R_e, FZ, 273.15, 1.0)
+    a = TransientBrushTire(tire, grid)
+    b = TransientBrushTire(tire, grid)
+    for _ in range(100):
+        a.step_array(1e-3, *u)
+        b.step_array(1e-3, *u)
+    before = a.step_array(0.0, *u)
+    for h in (1e-12, 5e-324, 2.2e-308, 9.9e-10):
+        out = a.step_array(h, *u)
+        assert out == before, f"doStep({h:g}) changed the outputs"
+    assert a.time == pytest.approx(b.time + 1e-12 + 9.9e-10 + 2.2e-308, abs=1e-15)
+    np.testing.assert_array_equal(a.step_array(1e-3, *u), b.step_array(1e-3, *u))
+    for ref in (TransientBrushTire(tire, grid, backend="reference", n_elements=8),):
+        ref.step_array(1e-3, *u)
+        x = ref.step_array(0.0, *u)
+        assert ref.step_array(1e-12, *u) == x

@@ -56,6 +56,9 @@ import math
 GAMMA = 0.2928932188134524
 #: Elements slipping slower than this [m/s] count as adhering in the sliding fraction.
 CREEP_SPEED = 1e-3
+#: Shortest step [s] that advances the tire (``TF_DT_FLOOR``): a shorter one only advances the
+#: clock, so outputs are continuous as the step -> 0 (nothing moves in 1 ns).
+DT_FLOOR = 1e-9
 #: Smallest element sub-step [s]: accepted whatever its error.
 H_MIN = 1e-8
 #: Largest slipped distance carried [m].
@@ -777,7 +780,9 @@ class RefTire:
         p = self.p
         if math.isnan(self.T_tread):
             self.T_tread = Ts
-        if dt > 0.0:
+        if 0.0 < dt < DT_FLOOR:
+            self.time += dt
+        elif dt > 0.0:
             ns = math.ceil(dt / p.dt_internal - 1e-9)
             n_sub = int(ns) if ns > 1.0 else 1
             h = dt / n_sub

@@ -239,7 +239,9 @@ class TransientBrushTire:
         Parameters
         ----------
         dt
-            Step [s], >= 0 (0 returns the current outputs).
+            Step [s], >= 0; a step shorter than :data:`~tire_brush.element.DT_FLOOR`
+            (1 ns, subnormal included) only advances the clock and returns the current
+            outputs (nothing in the model moves in 1 ns: outputs are continuous as dt -> 0).
         vx, vy
             Wheel-centre velocity in the wheel plane and lateral [m/s].
         omega

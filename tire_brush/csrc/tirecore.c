@@ -924,7 +924,9 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         return -1;
     const tf_params *p = &tire->p;
     if (isnan(tire->T_tread)) tire->T_tread = Ts;
-    if (dt > 0.0) {
+    if (dt > 0.0 && dt < TF_DT_FLOOR) {
+        tire->time += dt;
+    } else if (dt > 0.0) {
         double ns = ceil(dt / p->dt_internal - 1e-9);
         int n_sub = ns > 1.0 ? (int)ns : 1;
         double h = dt / n_sub;

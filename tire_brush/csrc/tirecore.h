@@ -26,6 +26,10 @@ extern "C" {
 
 /* Version of this API and of the state layout (tf_tire_get_state). */
 #define TF_VERSION 2
+/* Shortest step [s] that advances the tire: a shorter one (subnormal included) only advances
+ * the clock and leaves state and outputs as they are (nothing in the model moves in 1 ns:
+ * the element sub-steps stop at 10 ns), so outputs are continuous as the step -> 0. */
+#define TF_DT_FLOOR 1e-9
 /* Outputs of tf_tire_step, in order: Fx, Fy [N], Mz [N m], kappa [1], alpha [rad], mu_eff,
  * mu_slide, sliding_fraction [1], dT_flash_max [K], T_tread [K]. */
 #define TF_NOUT 10
@@ -73,7 +77,8 @@ TF_API tf_tire *tf_tire_new(const tf_params *p, const tf_table *t);
 TF_API void tf_tire_free(tf_tire *tire);
 /* Undeflected tire at rest; tread temperature T_tread [K] (NaN: the next step's T_surface). */
 TF_API void tf_tire_reset(tf_tire *tire, double T_tread);
-/* Advance by dt [s] with inputs held: in = {vx, vy, omega, Fz, T_surface, mu_scale}.
+/* Advance by dt [s] with inputs held: in = {vx, vy, omega, Fz, T_surface, mu_scale}
+ * (dt < TF_DT_FLOOR: only the clock advances).
  * Writes TF_NOUT outputs. Returns 0, or -1 for inputs it refuses (non-finite, dt < 0,
  * T_surface <= 0, mu_scale < 0), leaving the state unchanged. */
 TF_API int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out);
