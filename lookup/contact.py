@@ -1,6 +1,6 @@
 r"""Contact-mechanics pieces of Persson theory: P(G), S(P) and the integral Phi(G).
 
-Review eqs. (18) and (20): :math:`P = \mathrm{erf}(1/(2\sqrt G))` (docs/review-notes.md, trap 2: the
+Review eqs. (18) and (20): :math:`P = \mathrm{erf}(1/(2\sqrt G))` (docs/review-notes.md, Trap 2: the
 printed middle expression of eq. 18 is a typo), :math:`S = \gamma + (1-\gamma)P^2`.
 
 Why :func:`Phi` exists. With :math:`g = dG/d\ln q = \tfrac18 q^4 C A_2/\sigma_0^2` (eq. 19) the

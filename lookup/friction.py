@@ -11,9 +11,9 @@ Cold branch (review eqs. 17-20, temperature T0 everywhere):
            \left|\frac{E(q v \cos\phi, T)}{(1-\nu^2)\sigma_0}\right|^2,\quad
     P(q) = \mathrm{erf}\big(1/(2\sqrt{G(q)})\big),\quad S = \gamma + (1-\gamma) P^2,
 
-with the loss modulus E_I = -Im E >= 0 (docs/review-notes.md, trap 1: the review writes Im E,
-which is negative with its own eq. 4) and the corrected eq. (18) (trap 2). The angular integrals
-use the symmetry of trap 3: 4 x Gauss-Legendre on [0, pi/2]. G(q) is trapezoidal in ln q;
+with the loss modulus E_I = -Im E >= 0 (docs/review-notes.md, Trap 1: the review writes Im E,
+which is negative with its own eq. 4) and the corrected eq. (18) (Trap 2). The angular integrals
+use the symmetry of Trap 3: 4 x Gauss-Legendre on [0, pi/2]. G(q) is trapezoidal in ln q;
 eq. (17) is integrated in G with the exact Phi(G) = int S P dG (:mod:`lookup.contact`), which
 follows the steep fall of P(q) on glassy rubber that no q-quadrature resolves.
 The real contact area is A/A0 = P(q1) and mu = mu_visc + sigma_f(v, T) P(q1) / sigma0
@@ -276,7 +276,7 @@ class PerssonFriction:
 
     # -- the integrals ------------------------------------------------------------------------
     def _angular(self, v: np.ndarray, log10_aT: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Angular integrals at every q (trap 3), normalised by (1 - nu^2).
+        """Angular integrals at every q (Trap 3), normalised by (1 - nu^2).
 
         Returns (A_I, A_2), shape (B, nq): A_I = int_0^2pi cos(phi) E_I*/... dphi and
         A_2 = int_0^2pi |E*|^2 dphi with E* = E/(1-nu^2).

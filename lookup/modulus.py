@@ -3,7 +3,7 @@ r"""Viscoelastic modulus E(omega) of a rubber compound at its reference temperat
 Convention (review eqs. 1-3): time dependence :math:`e^{-i\omega t}`, so the complex modulus is
 :math:`E(\omega) = E_R(\omega) - i E_I(\omega)` and, for a passive material, ``Im E < 0`` for
 ``omega > 0``. This package works throughout with the **loss modulus** ``E_I = -Im E``, which is
-``>= 0`` for ``omega > 0`` and odd in ``omega`` (docs/review-notes.md, trap 1). ``E_R`` is even in
+``>= 0`` for ``omega > 0`` and odd in ``omega`` (docs/review-notes.md, Trap 1). ``E_R`` is even in
 ``omega``.
 
 Three models of the small-strain master curve are provided:

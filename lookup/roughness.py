@@ -1,6 +1,6 @@
 r"""Road roughness: the 2D isotropic power spectrum C(q) and the large-wavenumber cut-off q1.
 
-Convention (review sec. 4, docs/review-notes.md, trap 4):
+Convention (review sec. 4, docs/review-notes.md, Trap 4):
 :math:`C(q) = (2\pi)^{-2}\int d^2x\,\langle h(\mathbf{x})h(\mathbf{0})\rangle
 e^{-i\mathbf{q}\cdot\mathbf{x}}`,
 so that :math:`h_{rms}^2 = 2\pi\int q\,C(q)\,dq` and the cumulative rms slope is
@@ -12,7 +12,7 @@ Spectra:
   ``q0 <= q < q_r`` and ``C = C0 (q/q_r)^(-2(H+1))`` for ``q >= q_r``; zero below q0.
 * :class:`TabulatedPSD`: measured C(q) (CSV), log-log interpolation, zero outside the data.
 
-The cut-off q1 (docs/review-notes.md, trap 6) is chosen by an explicit :class:`CutoffRule`: by
+The cut-off q1 (docs/review-notes.md, Trap 6) is chosen by an explicit :class:`CutoffRule`: by
 default the wavenumber where the cumulative rms slope reaches ``xi1 = 1`` (review sec. 5.1, "Open
 problems"); or a fixed value. The rule and the resolved q1 are stored with every result.
 """
@@ -171,7 +171,7 @@ def xi_squared_numeric(psd: PowerSpectrum, q: np.ndarray, points_per_decade: int
 
 @dataclass(frozen=True)
 class CutoffRule:
-    """Rule for the large-wavenumber cut-off q1 (docs/review-notes.md, trap 6).
+    """Rule for the large-wavenumber cut-off q1 (docs/review-notes.md, Trap 6).
 
     Attributes
     ----------

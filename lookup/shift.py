@@ -2,7 +2,7 @@ r"""Temperature shift factors a_T(T): E(omega, T) = E(omega a_T(T), T_ref).
 
 * :class:`WLF`, review eq. (5) with its own reference temperature,
   :math:`\log_{10} a_T = -C_1 (T - T_r)/(C_2 + T - T_r)`. The universal constants
-  C1 = 17.44, C2 = 51.6 K hold only with T_r = T_g (docs/review-notes.md, trap 5).
+  C1 = 17.44, C2 = 51.6 K hold only with T_r = T_g (docs/review-notes.md, Trap 5).
 * :class:`TabulatedShift`, log10 a_T(T) measured, interpolated linearly in T.
 * :class:`Arrhenius`, review eq. (22), :math:`\ln a_T = (\epsilon/k_B)(1/T - 1/T_r)`, used for
   the adhesive shear law.

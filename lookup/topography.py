@@ -1,5 +1,5 @@
 r"""Surface roughness power spectra from measured topography (review sec. 3; docs/review-notes.md,
-trap 4).
+Trap 4).
 
 Conventions
 -----------
@@ -671,7 +671,7 @@ def rms_slope_from_psd(q: ArrayLike, C: ArrayLike) -> float:
 
 def cumulative_rms_slope(q: ArrayLike, C: ArrayLike) -> np.ndarray:
     """``xi(q) = (2 pi int_{q[0]}^{q} q'^3 C dq')^{1/2}`` [-] at every q (docs/review-notes.md,
-    trap 6: the review's q1 is where xi reaches about 1)."""
+    Trap 6: the review's q1 is where xi reaches about 1)."""
     q, C = _check_spectrum(q, C)
     return np.sqrt(2.0 * math.pi * _powerlaw_cumulative(q, q**3 * C))
 

@@ -24,12 +24,12 @@ from lookup.roughness import CutoffRule
 from lookup.shift import WLF, Arrhenius
 
 
-# -- docs/review-notes.md, trap 1: the sign of Im E ---
+# -- docs/review-notes.md, Trap 1: the sign of Im E ---
 def test_loss_modulus_sign_and_parity(single_relaxation: SingleRelaxation) -> None:
     w = np.logspace(-3, 8, 50)
     E = single_relaxation.complex_modulus(w)
-    assert (E.imag < 0).all(), "eq. (4) with e^{-i w t}: Im E < 0 for w > 0 (trap 1)"
-    assert ((1.0 / E).imag > 0).all(), "Im(1/E) > 0 for w > 0 (trap 1)"
+    assert (E.imag < 0).all(), "eq. (4) with e^{-i w t}: Im E < 0 for w > 0 (Trap 1)"
+    assert ((1.0 / E).imag > 0).all(), "Im(1/E) > 0 for w > 0 (Trap 1)"
     ER, EI = single_relaxation.storage_loss(w)
     assert (EI > 0).all(), "the loss modulus E_I = -Im E is positive"
     ERm, EIm = single_relaxation.storage_loss(-w)
@@ -42,12 +42,12 @@ def test_loss_modulus_sign_and_parity(single_relaxation: SingleRelaxation) -> No
 def test_viscoelastic_friction_is_positive(compound, surface) -> None:
     m = PerssonFriction(compound, surface)
     r = m.cold(np.logspace(-8, 1.5, 20), T20, 3e5)
-    assert (r.mu_visc > 0).all(), "mu_visc > 0 at every speed (loss sign pinned, trap 1)"
+    assert (r.mu_visc > 0).all(), "mu_visc > 0 at every speed (loss sign pinned, Trap 1)"
 
 
-# -- docs/review-notes.md, trap 2, and eq. (10): elastic limit ---
+# -- docs/review-notes.md, Trap 2, and eq. (10): elastic limit ---
 def test_contact_area_elastic_limit_eq10() -> None:
-    """With E real and constant, P(q1) = erf(sqrt(2) sigma0/(xi E*)) exactly (trap 2).
+    """With E real and constant, P(q1) = erf(sqrt(2) sigma0/(xi E*)) exactly (Trap 2).
 
     The rms slope xi is evaluated by the engine's own q quadrature, so the identity holds to
     round-off; against the closed-form xi the trapezoidal rule at 400 nodes per decade is good
@@ -72,7 +72,7 @@ def test_contact_area_elastic_limit_eq10() -> None:
 
 
 def test_area_decreases_with_magnification(compound, surface) -> None:
-    """P(q) = erf(1/(2 sqrt G)) decreases with G, i.e. with magnification (trap 2: the printed
+    """P(q) = erf(1/(2 sqrt G)) decreases with G, i.e. with magnification (Trap 2: the printed
     middle expression of eq. 18 would grow)."""
     m = PerssonFriction(compound, surface)
     parts = m._evaluate(np.array([0.1]), np.array([T20]), np.array([3e5]), None)

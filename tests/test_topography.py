@@ -1,4 +1,4 @@
-"""Power spectra from topography (the review's C(q) convention: docs/review-notes.md trap 4),
+"""Power spectra from topography (the review's C(q) convention: docs/review-notes.md Trap 4),
 I/O, errors.
 
 Tolerance tiers: ~1e-12 for exact discrete identities (Parseval, per-mode spectra), ~1e-9 for
