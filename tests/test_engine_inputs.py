@@ -1,4 +1,4 @@
-"""Issue 15: the friction engine on a scientist's own data files.
+"""The friction engine on a scientist's own data files.
 
 Every bad input of the issue is refused with an error naming the file (or option), the field
 and the value; the new options (units on the command line, explicit frequency units, plain

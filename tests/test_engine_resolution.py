@@ -1,4 +1,4 @@
-"""Issue 15: the default resolution's bias against a converged result, stated honestly.
+"""The default resolution's bias against a converged result, stated honestly.
 
 Glassy single-relaxation solid (review eq. 4: E0 = 3 MPa, E1 = 3 GPa, tau = 10 ms; at
 20 C and v = 1e-4 .. 1 m/s the road's frequencies q v reach the glassy plateau), H = 0.8,

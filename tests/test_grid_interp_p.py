@@ -1,4 +1,4 @@
-"""Issue 15, remainder: monotone cubic along log10 p and the v_min band of the reduced speed.
+"""Monotone cubic along log10 p and the v_min band of the reduced speed.
 
 After the reduced-speed interpolation across T (``tests/test_grid_reduced_speed.py``) the
 off-node error of the shipped default grid (cold branch, all three axes off-node) had p95
@@ -29,22 +29,15 @@ import sys
 
 import numpy as np
 import pytest
+from grid_cases import default_grid, reduced_speed_linear_grid
 
-from lookup.errors import GridError, InputError
-from lookup.grid import load_grid
+from lookup.errors import GridError
 from lookup.grid.reader import FrictionGrid, pchip_slopes
 from lookup.shift import WLF
 
 pytest.importorskip("lookup.friction")
 
 BEST = {"v_interp": "pchip", "T_interp": "reduced_speed", "p_interp": "pchip"}
-
-
-def default_grid():
-    try:
-        return load_grid("default")
-    except InputError:
-        pytest.skip("the default grid has not been built yet")
 
 
 def random_grid(seed=1, monotone_p=False):
@@ -145,14 +138,7 @@ def test_reduced_speed_next_to_v_min_reads_the_upper_node(v_interp) -> None:
     """mu linear in the reduced speed: next to v_min (the lower T node's shifted speed below
     the axis) the upper node alone is read at the query's reduced speed, which is exact; the
     previous fixed-v fallback was not. Next to v_max the fixed-v interpolation is kept."""
-    lv = np.linspace(-6, 1.6, 77)
-    T = np.linspace(253.15, 393.15, 15)
-    lp = np.linspace(4.7, 6.3, 5)
-    w = WLF(8.0, 120.0, 293.15)
-    V, TT, P = np.meshgrid(lv, T, lp, indexing="ij")
-    vals = 1.0 + 0.05 * (V + w.log10_aT(TT)) + 0.01 * P
-    g = FrictionGrid(lv, T, lp, {"mu_cold": vals, "mu_hot": vals, "dT_flash": 0 * vals},
-                     {"s0_m": 2e-4, "D_m": 1e-3, "compound": {"shift": w.describe()}})
+    g, w, lv, T = reduced_speed_linear_grid()
     rng = np.random.default_rng(8)
     n = 300
     j = rng.integers(0, T.size - 1, n)

@@ -1,4 +1,4 @@
-"""Issue 15: interpolation across T at fixed reduced speed log10(v a_T(T)).
+"""Interpolation across T at fixed reduced speed log10(v a_T(T)).
 
 The multilinear grid interpolation at fixed log10 v has its largest errors from the T axis
 (default grid, cold branch, 600 random points off-node in all axes: max 1.7 %). By
@@ -22,20 +22,13 @@ import sys
 
 import numpy as np
 import pytest
+from grid_cases import default_grid, reduced_speed_linear_grid
 
-from lookup.errors import GridError, InputError
-from lookup.grid import load_grid
+from lookup.errors import GridError
 from lookup.grid.reader import FrictionGrid, shift_from_meta
 from lookup.shift import WLF, TabulatedShift
 
 pytest.importorskip("lookup.friction")
-
-
-def default_grid():
-    try:
-        return load_grid("default")
-    except InputError:
-        pytest.skip("the default grid has not been built yet")
 
 
 def test_shift_from_meta_matches_lookup_shift() -> None:
@@ -76,14 +69,7 @@ def test_reduced_speed_is_exact_for_a_function_of_reduced_speed(v_interp) -> Non
     """mu linear in the reduced speed x = log10(v a_T): every T node is interpolated exactly
     along v, so the blend at fixed x is exact to round-off; blending at fixed v is not
     (log10 a_T is not linear in T)."""
-    lv = np.linspace(-6, 1.6, 77)
-    T = np.linspace(253.15, 393.15, 15)
-    lp = np.linspace(4.7, 6.3, 5)
-    w = WLF(8.0, 120.0, 293.15)
-    V, TT, P = np.meshgrid(lv, T, lp, indexing="ij")
-    vals = 1.0 + 0.05 * (V + w.log10_aT(TT)) + 0.01 * P
-    g = FrictionGrid(lv, T, lp, {"mu_cold": vals, "mu_hot": vals, "dT_flash": 0 * vals},
-                     {"s0_m": 2e-4, "D_m": 1e-3, "compound": {"shift": w.describe()}})
+    g, w, _, _ = reduced_speed_linear_grid()
     rng = np.random.default_rng(5)
     Tq = rng.uniform(260.0, 385.0, 300)
     lpq = rng.uniform(4.7, 6.3, 300)
