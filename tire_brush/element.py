@@ -73,6 +73,9 @@ STATE_HEAD = 21
 #: State layout version.
 STATE_VERSION = 2
 LN10 = 2.302585092994046
+#: Relative margin of the bounds of the node walk (tirecore.c, WALK_MARGIN): a node skipped as
+#: "R < 0" (or "R >= 0") has |R| > 1e-7, far above the rounding of its evaluation.
+WALK_MARGIN = 1e-6
 
 
 def _cold_weight(a: float) -> float:
@@ -118,6 +121,38 @@ class RefTable:
         self.ispan = [1.0 / (self.ax[0][j + 1] - self.ax[0][j]) if j < nv - 1 else 0.0
                       for j in range(nv)]
         self.inv_s0 = float(inv_s0)
+        # bounds for the node walk of the stage solve (tirecore.c, struct tf_table): the
+        # largest branch value at nodes >= j and the smallest at nodes <= j; None when the
+        # table has a negative value (nothing is skipped then)
+        ntp = self.n[1] * self.n[2]
+        self.smax: list[float] | None = None
+        self.pmin: list[float] | None = None
+        if all(flat[i] >= 0.0 for i in range(len(flat)) if i % 3 != 2):
+            smax = [0.0] * (nv * ntp)
+            pmin = [0.0] * (nv * ntp)
+            for k in range(ntp):
+                for j in range(nv - 1, -1, -1):
+                    b = (j * ntp + k) * 3
+                    hi = flat[b] if flat[b] > flat[b + 1] else flat[b + 1]
+                    if j < nv - 1 and smax[(j + 1) * ntp + k] > hi:
+                        hi = smax[(j + 1) * ntp + k]
+                    smax[j * ntp + k] = hi
+                for j in range(nv):
+                    b = (j * ntp + k) * 3
+                    lo = flat[b] if flat[b] < flat[b + 1] else flat[b + 1]
+                    if j > 0 and pmin[(j - 1) * ntp + k] < lo:
+                        lo = pmin[(j - 1) * ntp + k]
+                    pmin[j * ntp + k] = lo
+            self.smax, self.pmin = smax, pmin
+
+    def bound(self, arr: list[float], q: tuple, j: int) -> float:
+        """Bilinear (T, p) interpolation of a bound array (``smax`` or ``pmin``) at speed
+        node ``j``: it bounds both branches (and their blends) at the nodes >= j or <= j."""
+        b, w00, w01, w10, w11 = q
+        base = j * self.n[1] * self.n[2] + b // 3
+        o2 = self.n[2]
+        return w00 * arr[base] + w01 * arr[base + 1] + w10 * arr[base + o2] + w11 * arr[
+            base + o2 + 1]
 
     def locate(self, k: int, x: float) -> tuple[int, float]:
         """Cell index and fraction of ``x`` on axis ``k``, clamped."""
@@ -171,8 +206,8 @@ def _flatten(values):
 class _Stage:
     """The friction root problem of one stage (module docstring)."""
 
-    __slots__ = ("Ax", "Ay", "E", "G", "Hs", "P", "Zs", "c0", "c1", "cell", "dT", "gx", "gy",
-                 "inv_s0", "iso", "ispan", "lvj", "pf", "q", "t")
+    __slots__ = ("Amax", "Amin", "Ax", "Ay", "E", "G", "Hs", "P", "Zs", "c0", "c1", "cell",
+                 "dT", "gx", "gy", "inv_s0", "iso", "ispan", "lvj", "pf", "q", "t")
 
     def set_cell(self, j: int) -> None:
         t = self.t
@@ -310,6 +345,8 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
     S.Hs = Hs
     S.inv_s0 = t.inv_s0
     S.iso = S.Ax == S.Ay
+    S.Amin = S.Ax if S.Ax < S.Ay else S.Ay
+    S.Amax = S.Ay if S.Ax < S.Ay else S.Ax
     S.q = t.prep(c.iT, c.fT, p * c.inv_void)
     S.set_cell(-1)
     E0 = _cold_weight(Zs * S.inv_s0) if S.inv_s0 > 0.0 else 1.0
@@ -365,10 +402,29 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
             # walk the nodes above from their values alone (R is continuous across a node)
             # up to the first where R >= 0, or to the cell that holds V_hi
             j = S.cell + 1
-            rj = S.node_resid(j)
-            while rj < 0.0 and j + 1 <= nv - 1 and t.vnode[j + 1] < V_hi:
-                j += 1
+            while True:
+                # nodes below (G - P_max) / A_max have R < 0 whatever the friction there:
+                # skipped without evaluating them (the walk stops where it would anyway)
+                if t.smax is not None:
+                    Pm = S.pf * t.bound(t.smax, S.q, j)
+                    Vb = (S.G * (1.0 - WALK_MARGIN) - Pm) / S.Amax
+                    if t.vnode[j] < Vb:         # the bound holds at every node above j too
+                        stop = False
+                        while True:
+                            if not (j + 1 <= nv - 1 and t.vnode[j + 1] < V_hi):
+                                stop = True
+                                break
+                            j += 1
+                            if not t.vnode[j] < Vb:
+                                break
+                        rj = -1.0
+                        if stop:
+                            break
+                        continue
                 rj = S.node_resid(j)
+                if not (rj < 0.0 and j + 1 <= nv - 1 and t.vnode[j + 1] < V_hi):
+                    break
+                j += 1
             if rj >= 0.0:                       # the root is in [vnode[j-1], vnode[j]]
                 if j - 1 != S.cell:
                     S.set_cell(j - 1)
@@ -406,10 +462,28 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
                 break
             # walk the nodes below from their values alone down to the first where R < 0
             j = S.cell
-            rj = S.node_resid(j)
-            while rj >= 0.0 and j > 0:
-                j -= 1
+            while True:
+                # nodes above (G - P_min) / A_min have R >= 0 whatever the friction there
+                if t.pmin is not None:
+                    Pn = S.pf * t.bound(t.pmin, S.q, j)
+                    Vd = (S.G * (1.0 + WALK_MARGIN) - Pn) / S.Amin
+                    if t.vnode[j] >= Vd:        # the bound holds at every node below j too
+                        stop = False
+                        while True:
+                            if not j > 0:
+                                stop = True
+                                break
+                            j -= 1
+                            if not t.vnode[j] >= Vd:
+                                break
+                        rj = 1.0
+                        if stop:
+                            break
+                        continue
                 rj = S.node_resid(j)
+                if not (rj >= 0.0 and j > 0):
+                    break
+                j -= 1
             if rj < 0.0:                        # the root is in [vnode[j], vnode[j+1]]
                 if j != S.cell:
                     S.set_cell(j)

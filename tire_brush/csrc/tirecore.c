@@ -32,6 +32,10 @@ struct tf_table {
     double *val;      /* node values, (nv, nT, np, 3) */
     double *vnode;    /* 10^log10_v */
     double *ispan;    /* 1 / (log10 v_{j+1} - log10 v_j) */
+    /* bounds of the friction for the node walk of the stage solve: the largest value of
+     * either branch at nodes >= j and the smallest at nodes <= j, (nv, nT, np); NULL when the
+     * table has a negative value (then nothing is skipped) */
+    double *smax, *pmin;
     double inv_s0;
 };
 
@@ -88,6 +92,29 @@ tf_table *tf_table_new(int nv, int nT, int np, const double *log10_v, const doub
     t->ispan = malloc(sizeof(double) * nv);
     if (!t->val || !t->vnode || !t->ispan) { tf_table_free(t); return NULL; }
     memcpy(t->val, values, sizeof(double) * nval);
+    int nonneg = 1;
+    for (size_t i = 0; i < nval; i++)
+        if (i % 3 != 2 && values[i] < 0.0) nonneg = 0;
+    if (nonneg) {
+        size_t ntp = (size_t)nT * np;
+        t->smax = malloc(sizeof(double) * nv * ntp);
+        t->pmin = malloc(sizeof(double) * nv * ntp);
+        if (!t->smax || !t->pmin) { tf_table_free(t); return NULL; }
+        for (size_t k = 0; k < ntp; k++) {
+            for (int j = nv - 1; j >= 0; j--) {
+                const double *v = values + ((size_t)j * ntp + k) * 3;
+                double hi = v[0] > v[1] ? v[0] : v[1];
+                if (j < nv - 1 && t->smax[(j + 1) * ntp + k] > hi) hi = t->smax[(j + 1) * ntp + k];
+                t->smax[j * ntp + k] = hi;
+            }
+            for (int j = 0; j < nv; j++) {
+                const double *v = values + ((size_t)j * ntp + k) * 3;
+                double lo = v[0] < v[1] ? v[0] : v[1];
+                if (j > 0 && t->pmin[(j - 1) * ntp + k] < lo) lo = t->pmin[(j - 1) * ntp + k];
+                t->pmin[j * ntp + k] = lo;
+            }
+        }
+    }
     for (int j = 0; j < nv; j++) {
         t->vnode[j] = pow(10.0, log10_v[j]);
         t->ispan[j] = j < nv - 1 ? 1.0 / (log10_v[j + 1] - log10_v[j]) : 0.0;
@@ -101,6 +128,8 @@ void tf_table_free(tf_table *t) {
     free(t->val);
     free(t->vnode);
     free(t->ispan);
+    free(t->smax);
+    free(t->pmin);
     free(t);
 }
 
@@ -162,6 +191,20 @@ static void node(const tf_table *t, const tf_tp *q, int j, double *out) {
         out[k] = q->w00 * v[k] + q->w01 * v[3 + k] + q->w10 * v[o2 + k] + q->w11 * v[o2 + 3 + k];
 }
 
+/* A bound of the branch values at speed node j for a prepared query: the bilinear (T, p)
+ * interpolation of arr (smax or pmin), which bounds the interpolated values of both branches
+ * (and every blend of them) at the nodes >= j (smax) or <= j (pmin). */
+static double node_bound(const tf_table *t, const double *arr, const tf_tp *q, int j) {
+    const double *v = arr + (size_t)j * t->n[1] * t->n[2] + q->b / 3;
+    int o2 = t->n[2];
+    return q->w00 * v[0] + q->w01 * v[1] + q->w10 * v[o2] + q->w11 * v[o2 + 1];
+}
+
+/* Relative margin of the bounds of the node walk: a node skipped as "R < 0" (or "R >= 0")
+ * has |R| > 1e-7, far above the rounding of its evaluation, so skipping never changes which
+ * node the walk stops at. */
+#define WALK_MARGIN 1e-6
+
 /* ---------------------------------------------------------------- one stage ------------ */
 
 /* Context of one outer step (constant over it). */
@@ -181,7 +224,7 @@ typedef struct {
 typedef struct {
     const tf_table *t;
     tf_tp q;
-    double Ax, Ay, gx, gy, G, pf, Zs, Hs, inv_s0;
+    double Ax, Ay, Amin, Amax, gx, gy, G, pf, Zs, Hs, inv_s0;
     int iso, cell;
     double c0[3], c1[3], lvj, ispan;
     double P, E, dT;                /* of the last residual evaluation */
@@ -306,6 +349,8 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
     S.Hs = Hs;
     S.inv_s0 = t->inv_s0;
     S.iso = S.Ax == S.Ay;
+    S.Amin = S.Ax < S.Ay ? S.Ax : S.Ay;
+    S.Amax = S.Ax < S.Ay ? S.Ay : S.Ax;
     prep_tp(t, c->iT, c->fT, p * c->inv_void, &S.q);
     set_cell(&S, -1);
     double E0 = S.inv_s0 > 0.0 ? cold_weight(Zs * S.inv_s0) : 1.0;
@@ -366,10 +411,27 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
             /* walk the nodes above from their values alone (R is continuous across a
              * node) up to the first where R >= 0, or to the cell that holds V_hi */
             int j = S.cell + 1;
-            double rj = node_resid(&S, j);
-            while (rj < 0.0 && j + 1 <= nv - 1 && t->vnode[j + 1] < V_hi) {
-                j += 1;
+            double rj;
+            for (;;) {
+                /* nodes below (G - P_max) / A_max have R < 0 whatever the friction there:
+                 * skipped without evaluating them (the walk stops where it would anyway) */
+                if (t->smax) {
+                    double Pm = S.pf * node_bound(t, t->smax, &S.q, j);
+                    double Vb = (S.G * (1.0 - WALK_MARGIN) - Pm) / S.Amax;
+                    if (t->vnode[j] < Vb) {  /* the bound holds at every node above j too */
+                        int stop = 0;
+                        do {
+                            if (!(j + 1 <= nv - 1 && t->vnode[j + 1] < V_hi)) { stop = 1; break; }
+                            j += 1;
+                        } while (t->vnode[j] < Vb);
+                        rj = -1.0;
+                        if (stop) break;
+                        continue;
+                    }
+                }
                 rj = node_resid(&S, j);
+                if (!(rj < 0.0 && j + 1 <= nv - 1 && t->vnode[j + 1] < V_hi)) break;
+                j += 1;
             }
             if (rj >= 0.0) {                  /* the root is in [vnode[j-1], vnode[j]] */
                 if (j - 1 != S.cell) {
@@ -406,10 +468,26 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
             /* walk the nodes below from their values alone down to the first where R < 0
              * (R(0) < 0: the stick test failed) */
             int j = S.cell;
-            double rj = node_resid(&S, j);
-            while (rj >= 0.0 && j > 0) {
-                j -= 1;
+            double rj;
+            for (;;) {
+                /* nodes above (G - P_min) / A_min have R >= 0 whatever the friction there */
+                if (t->pmin) {
+                    double Pn = S.pf * node_bound(t, t->pmin, &S.q, j);
+                    double Vd = (S.G * (1.0 + WALK_MARGIN) - Pn) / S.Amin;
+                    if (t->vnode[j] >= Vd) {  /* the bound holds at every node below j too */
+                        int stop = 0;
+                        do {
+                            if (!(j > 0)) { stop = 1; break; }
+                            j -= 1;
+                        } while (t->vnode[j] >= Vd);
+                        rj = 1.0;
+                        if (stop) break;
+                        continue;
+                    }
+                }
                 rj = node_resid(&S, j);
+                if (!(rj >= 0.0 && j > 0)) break;
+                j -= 1;
             }
             if (rj < 0.0) {                   /* the root is in [vnode[j], vnode[j+1]] */
                 if (j != S.cell) {
