@@ -17,6 +17,7 @@ Tolerances:
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 
 import numpy as np
@@ -438,3 +439,26 @@ def test_tiny_and_subnormal_steps_are_defined(tire, grid) -> None:
     python.step_array(1e-3, *u)
     x = python.step_array(0.0, *u)
     assert python.step_array(1e-12, *u) == x, "the Python reference has the same floor"
+
+
+def test_outputs_change_by_order_h_as_the_step_shrinks(tire, grid) -> None:
+    """Continuity in the step size: from a braking state at 0 C (stick-slip at the trailing
+    edge, so the instantaneous patch force differs from the 1 ms mean), steps of 1e-6, 1e-7
+    and 1e-8 s move Fx by at most (h / W) times the largest possible jump (2 mu_max Fz with
+    mu_max < 2, W = dt_internal: the output relaxation), i.e. O(h); and the change shrinks in
+    proportion to h (a ratio within [5, 20] for a 10x smaller step: linear, not constant)."""
+    u = (27.8, 0.0, 27.8 * 0.94 / tire.R_e, FZ, 273.15, 1.0)
+    m = TransientBrushTire(tire, grid)
+    for _ in range(150):
+        before = m.step_array(1e-3, *u)
+    state = m.get_state()
+    moves = []
+    for h in (1e-6, 1e-7, 1e-8):
+        m.set_state(state)
+        after = m.step_array(h, *u)
+        d = abs(after[0] - before[0])
+        assert d <= h / m.dt_internal * 4.0 * FZ, f"doStep({h:g}) moved Fx by {d:.3g} N"
+        moves.append(d)
+    assert moves[0] > 0.0
+    for big, small in itertools.pairwise(moves):
+        assert 5.0 <= big / small <= 20.0, f"not O(h): {moves}"

@@ -879,12 +879,20 @@ class RefTire:
             alpha = math.atan2(-vy, ref)
             T0 = self.T_tread if p.thermal else Ts
             o = self.out
-            if fin[0] == 0.0:
-                o[0] = o[1] = o[2] = o[5] = o[6] = o[7] = o[8] = 0.0
-            else:
-                # the road force: the friction impulse of the step over its length
+            # the road force: the friction impulse of the step over its length; a step
+            # shorter than the output window W = dt_internal moves the outputs towards its
+            # mean by dt/W only (a first-order relaxation): O(dt) changes as dt -> 0
+            W = p.dt_internal
+            if dt >= W:
                 o[0], o[1], o[2] = Ix / dt, Iy / dt, Im / dt
-                o[5] = _norm2(o[0], o[1]) / Fz if Fz > 0.0 else 0.0
+            else:
+                o[0] += (Ix - dt * o[0]) / W
+                o[1] += (Iy - dt * o[1]) / W
+                o[2] += (Im - dt * o[2]) / W
+            o[5] = _norm2(o[0], o[1]) / Fz if Fz > 0.0 else 0.0
+            if fin[0] == 0.0:
+                o[6] = o[7] = o[8] = 0.0
+            else:
                 o[6], o[7], o[8] = fin[3], fin[2], fin[4]
             o[3], o[4], o[9] = kappa, alpha, T0
         return list(self.out)

@@ -1027,14 +1027,23 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         double alpha = atan2(-vy, ref);
         double T0 = p->thermal ? tire->T_tread : Ts;
         double *o = tire->out;
-        if (fin[0] == 0.0) {
-            o[0] = 0.0; o[1] = 0.0; o[2] = 0.0; o[5] = 0.0; o[6] = 0.0; o[7] = 0.0; o[8] = 0.0;
-        } else {
-            /* the road force: the friction impulse of the step over its length */
+        /* the road force: the friction impulse of the step over its length; a step shorter
+         * than the output window W = dt_internal moves the outputs towards its mean by dt/W
+         * only (a first-order relaxation), so they change by O(dt) as dt -> 0 */
+        double W = p->dt_internal;
+        if (dt >= W) {
             o[0] = Ix / dt;
             o[1] = Iy / dt;
             o[2] = Im / dt;
-            o[5] = Fz > 0.0 ? norm2(o[0], o[1]) / Fz : 0.0;
+        } else {
+            o[0] += (Ix - dt * o[0]) / W;
+            o[1] += (Iy - dt * o[1]) / W;
+            o[2] += (Im - dt * o[2]) / W;
+        }
+        o[5] = Fz > 0.0 ? norm2(o[0], o[1]) / Fz : 0.0;
+        if (fin[0] == 0.0) {
+            o[6] = 0.0; o[7] = 0.0; o[8] = 0.0;
+        } else {
             o[6] = fin[3];
             o[7] = fin[2];
             o[8] = fin[4];

@@ -31,7 +31,10 @@ extern "C" {
  * the element sub-steps stop at 10 ns), so outputs are continuous as the step -> 0. */
 #define TF_DT_FLOOR 1e-9
 /* Outputs of tf_tire_step, in order: Fx, Fy [N], Mz [N m], kappa [1], alpha [rad], mu_eff,
- * mu_slide, sliding_fraction [1], dT_flash_max [K], T_tread [K]. */
+ * mu_slide, sliding_fraction [1], dT_flash_max [K], T_tread [K]. Fx, Fy, Mz are the friction
+ * impulse of the step over its length when the step is at least dt_internal long; a shorter
+ * step dt moves them towards its own mean by dt / dt_internal (a first-order relaxation with
+ * time constant dt_internal), so the outputs change by O(dt) as dt -> 0. */
 #define TF_NOUT 10
 /* Columns of one lattice element in the state: u_x, u_y [m], w_x, w_y [m/s], s [m],
  * last sub-step [s], in contact (0/1). */
