@@ -23,6 +23,17 @@ Status of ``doStep`` (pythonfmu can return fmi2OK or fmi2Discard):
   (an error in tirefric): it is then reset to an undeflected tire at rest, ``input_status``
   has bit 64, and the error is logged. Outputs stay finite in every case.
 
+Misuse never raises. pythonfmu (0.7) turns every Python exception in a slave method into
+fmi2Fatal *and* releases the Python instance, so the host's next call on it (or the
+``fmi2FreeInstance`` at the end, which releases it again) crashes the process; an exception
+anywhere in a run of the pythonfmu FMU was the cause of crashes at exit. So every method the
+wrapper calls catches its errors: a get/set of an unknown value reference, of the wrong type,
+a set of an output, a constant or a fixed parameter after initialisation, a corrupt or foreign
+state blob, bad parameters at initialisation are logged with status fmi2Error and change
+nothing, and the call returns fmi2OK (pythonfmu cannot return fmi2Error without the Fatal
+path; the native FMU returns fmi2Error for the same cases). Getters of invalid references
+return zeros. Messages reach the host only with logging on.
+
 In the FMU this file is the slave module (renamed, imports pointing at the FMU's private copy
 of the packages, see :mod:`fmu_src.package`); in a source checkout it runs as is, given a
 resources folder made by :func:`fmu_src.build.stage_resources`.
@@ -75,6 +86,8 @@ CORE_DIR = "tirecore"
 BUILD_FILE = "build.json"
 #: Tag of the FMU state.
 STATE_FORMAT = "tirefric-brush-tire-fmu-state"
+#: Tag of a state blob that failed its checks (:meth:`BrushTireSlave._fmu_state_from_bytes`).
+_REFUSED = "refused"
 #: Longest communication step, in internal steps (a guard against a step that would run for
 #: minutes: 1e5 steps of 1 ms is 100 s of simulated time).
 MAX_SUBSTEPS = 100_000
@@ -176,14 +189,36 @@ class BrushTireSlave(Fmi2Slave):
         """Nothing to set up: the model's time starts at zero and advances with the steps."""
 
     def exit_initialization_mode(self) -> None:
-        """Build the model from the parameters; outputs of the undeflected tire."""
-        self._build_model()
-        self._initial_outputs()
+        """Build the model from the parameters; outputs of the undeflected tire. Parameters
+        the model refuses are logged (fmi2Error) and every ``doStep`` then returns
+        fmi2Discard until a state with valid parameters is restored."""
+        try:
+            self._build_model()
+            self._initial_outputs()
+        except Exception as exc:  # never raise into pythonfmu (module docstring)
+            self._model = self._guard = None
+            self.log(f"initialization: the parameters do not make a tire model "
+                     f"({type(exc).__name__}: {exc})", Fmi2Status.error)
 
     def do_step(self, current_time: float, step_size: float) -> bool:
         """Advance by one communication step (status: module docstring)."""
+        try:
+            return self._do_step(current_time, step_size)
+        except Exception as exc:  # never raise into pythonfmu (module docstring)
+            self.log(f"doStep at t = {current_time!r} s failed ({type(exc).__name__}: {exc}); "
+                     f"nothing was advanced", Fmi2Status.error)
+            return False
+
+    def _do_step(self, current_time: float, step_size: float) -> bool:
         if self._model is None:
-            self._build_model()
+            try:
+                self._build_model()
+            except Exception as exc:
+                self._model = self._guard = None
+                self.log(f"doStep at t = {current_time!r} s: no tire model (the parameters "
+                         f"are refused: {type(exc).__name__}: {exc}); nothing was advanced",
+                         Fmi2Status.error)
+                return False
         model, guard = self._model, self._guard
         if not (math.isfinite(step_size) and step_size >= 0.0) or \
                 step_size > MAX_SUBSTEPS * model.dt_internal:
@@ -253,7 +288,18 @@ class BrushTireSlave(Fmi2Slave):
                 "model": None if model is None else model.get_state()}
 
     def _set_fmu_state(self, state: dict[str, Any]) -> None:
-        """Restore a state of :meth:`_get_fmu_state` (bit for bit)."""
+        """Restore a state of :meth:`_get_fmu_state` (bit for bit); a state that is refused
+        (corrupt, foreign, other build) is logged (fmi2Error) and changes nothing."""
+        backup = self._get_fmu_state()
+        try:
+            self._restore(state)
+        except Exception as exc:  # never raise into pythonfmu (module docstring)
+            self._restore(backup)
+            self.log(f"setFMUstate: state refused, nothing changed ({exc})", Fmi2Status.error)
+
+    def _restore(self, state: Any) -> None:
+        if isinstance(state, dict) and state.get("format") == _REFUSED:
+            raise ValueError(state.get("why", "not a state of this FMU"))
         if not isinstance(state, dict) or state.get("format") != STATE_FORMAT:
             raise ValueError("not a state of the tirefric brush-tire FMU")
         if state["build_id"] != self._build["build_id"]:
@@ -281,5 +327,82 @@ class BrushTireSlave(Fmi2Slave):
 
     @staticmethod
     def _fmu_state_from_bytes(state: bytes) -> dict[str, Any]:
-        """Inverse of :meth:`_fmu_state_to_bytes`."""
-        return state_io.from_bytes(state)
+        """Inverse of :meth:`_fmu_state_to_bytes`; bytes that fail the magic, checksum or
+        size checks give a "refused" state that :meth:`_set_fmu_state` logs and ignores."""
+        try:
+            return state_io.from_bytes(state)
+        except Exception as exc:  # never raise into pythonfmu (module docstring)
+            return {"format": _REFUSED, "why": f"{type(exc).__name__}: {exc}"}
+
+    # -- variable access that never raises (module docstring) ----------------------------------
+    def _misuse(self, vrs: Any, cls: type, write: bool) -> str | None:
+        """Why the access to ``vrs`` as ``cls`` is refused, or None."""
+        try:
+            refs = [int(vr) for vr in vrs]
+        except (TypeError, ValueError):
+            return f"value references {vrs!r} are not integers"
+        for vr in refs:
+            var = self.vars.get(vr)
+            if var is None:
+                return f"unknown value reference {vr}"
+            if not isinstance(var, cls):
+                return (f"{var.name} (value reference {vr}) is a {type(var).__name__}, not "
+                        f"a {cls.__name__}")
+            if write:
+                if var.causality in (Fmi2Causality.output, Fmi2Causality.local) or \
+                        var.variability == Fmi2Variability.constant or var.setter is None:
+                    return f"{var.name} (value reference {vr}) cannot be set"
+                if var.causality == Fmi2Causality.parameter and self._model is not None:
+                    return (f"parameter {var.name} is fixed: it cannot change after "
+                            f"initialization")
+        return None
+
+    def _get(self, vrs: Any, cls: type, conv: Any, zero: Any) -> list[Any]:
+        try:
+            why = self._misuse(vrs, cls, False)
+            if why is None:
+                return [conv(self.vars[int(vr)].getter()) for vr in vrs]
+        except Exception as exc:
+            why = f"{type(exc).__name__}: {exc}"
+        self.log(f"get{cls.__name__}: refused ({why}); zeros returned", Fmi2Status.error)
+        try:
+            return [zero] * len(vrs)
+        except TypeError:
+            return []
+
+    def _set(self, vrs: Any, values: Any, cls: type, conv: Any) -> None:
+        try:
+            why = self._misuse(vrs, cls, True)
+            if why is None:
+                pairs = [(self.vars[int(vr)], conv(x)) for vr, x in zip(vrs, values,
+                                                                        strict=True)]
+                for var, x in pairs:
+                    var.setter(x)
+                return
+        except Exception as exc:
+            why = f"{type(exc).__name__}: {exc}"
+        self.log(f"set{cls.__name__}: refused ({why}); nothing was set", Fmi2Status.error)
+
+    def get_real(self, vrs: list[int]) -> list[float]:
+        return self._get(vrs, Real, float, 0.0)
+
+    def get_integer(self, vrs: list[int]) -> list[int]:
+        return self._get(vrs, Integer, int, 0)
+
+    def get_boolean(self, vrs: list[int]) -> list[bool]:
+        return self._get(vrs, Boolean, bool, False)
+
+    def get_string(self, vrs: list[int]) -> list[str]:
+        return self._get(vrs, String, str, "")
+
+    def set_real(self, vrs: list[int], values: list[float]) -> None:
+        self._set(vrs, values, Real, float)
+
+    def set_integer(self, vrs: list[int], values: list[int]) -> None:
+        self._set(vrs, values, Integer, int)
+
+    def set_boolean(self, vrs: list[int], values: list[bool]) -> None:
+        self._set(vrs, values, Boolean, bool)
+
+    def set_string(self, vrs: list[int], values: list[str]) -> None:
+        self._set(vrs, values, String, str)

@@ -75,6 +75,86 @@ def test_rollback_through_fmpy_is_bit_exact(fmu, unzipdir):
     e.close()
 
 
+# -- misuse a master survives -------------------------------------------------------------------
+def _misuse_calls(d: FmuDriver) -> dict:
+    f, n_vars = d.fmu, len(d.md.modelVariables)
+    return {"fixed parameter after init": lambda: f.setReal([d.vr["tire.R_e"]], [0.4]),
+            "set an output": lambda: f.setReal([d.vr["Fx"]], [1.0]),
+            "set an unknown reference": lambda: f.setReal([n_vars + 5], [1.0]),
+            "get an unknown reference": lambda: f.getReal([n_vars + 5]),
+            "set with the wrong type": lambda: f.setInteger([d.vr["vx"]], [1]),
+            "get with the wrong type": lambda: f.getReal([d.vr["n_elements"]]),
+            "set a constant": lambda: f.setString([d.vr["info.tire"]], ["x"]),
+            "set the status output": lambda: f.setInteger([d.vr["input_status"]], [0]),
+            "atomic multi-set": lambda: f.setReal([d.vr["vx"], d.vr["Fy"]], [99.0, 1.0])}
+
+
+def test_pythonfmu_misuse_is_logged_and_changes_nothing(fmu, unzipdir):
+    """Every misuse FMI 2.0 lets an FMU recover from: never fmi2Fatal (pythonfmu would free
+    the Python instance and the host would crash on its next call), an fmi2Error message in
+    the log, and nothing changed: the instance then steps exactly like a twin that saw no
+    misuse (fmu_src/slave.py, module docstring)."""
+    from fmpy.fmi1 import FMICallException
+
+    # the twin first: fmpy's logger proxy delivers every instance's messages to the logger
+    # registered last
+    twin = FmuDriver(fmu, unzipdir, "twin")
+    d = FmuDriver(fmu, unzipdir, "misused")
+    U = braking_inputs(40)
+    for k in range(20):
+        d.step(U[:, k])
+        twin.step(U[:, k])
+    for name, call in _misuse_calls(d).items():
+        n_log = len(d.messages)
+        try:
+            call()
+        except FMICallException as exc:
+            assert exc.status == FMI_ERROR, f"{name}: status {exc.status}"
+        assert any(s == FMI_ERROR for s, _, _ in d.messages[n_log:]), f"{name}: not logged"
+    assert d.fmu.getReal([d.vr["tire.R_e"]])[0] == twin.fmu.getReal([twin.vr["tire.R_e"]])[0]
+    for k in range(20, 40):
+        assert d.step(U[:, k]).tobytes() == twin.step(U[:, k]).tobytes(), f"step {k}"
+    d.close()
+    twin.close()
+
+
+def test_corrupt_or_foreign_state_blob_is_refused_and_changes_nothing(fmu, unzipdir, tmp_path):
+    """A state blob with a flipped byte, a truncated one, random bytes and a state of another
+    build are refused (logged as errors, never Fatal) and the instance goes on exactly as a
+    twin that was not asked to restore them."""
+    from fmpy.fmi1 import FMICallException
+
+    U = braking_inputs(60)
+    other = build_test_fmu(tmp_path, "Other.fmu", n_elements=12)  # another build id
+    o = FmuDriver(other, None, "other", logging=False)
+    o.step(U[:, 0])
+    foreign = bytes(o.fmu.serializeFMUstate(o.fmu.getFMUstate()))
+    o.close()
+    twin = FmuDriver(fmu, unzipdir, "twin2")               # before d: see the test above
+    d = FmuDriver(fmu, unzipdir, "target")
+    for k in range(30):
+        d.step(U[:, k])
+        twin.step(U[:, k])
+    blob = bytes(d.fmu.serializeFMUstate(d.fmu.getFMUstate()))
+    flipped = bytearray(blob)
+    flipped[len(blob) // 2] ^= 0x40
+    for name, bad in (("flipped byte", bytes(flipped)), ("truncated", blob[:-17]),
+                      ("random", np.random.default_rng(1).bytes(len(blob))),
+                      ("other build", foreign)):
+        n_log = len(d.messages)
+        try:
+            st = d.fmu.deSerializeFMUstate(bad)
+            d.fmu.setFMUstate(st)
+            d.fmu.freeFMUstate(st)
+        except FMICallException as exc:
+            assert exc.status == FMI_ERROR, f"{name}: status {exc.status}"
+        assert any(s == FMI_ERROR for s, _, _ in d.messages[n_log:]), f"{name}: not logged"
+    for k in range(30, 60):
+        assert d.step(U[:, k]).tobytes() == twin.step(U[:, k]).tobytes(), f"step {k}"
+    d.close()
+    twin.close()
+
+
 # -- several instances -------------------------------------------------------------------------
 def test_four_instances_in_one_process_stay_independent(fmu, unzipdir):
     """Four wheels of one car: different loads, slips and one with another discretisation,
@@ -313,3 +393,32 @@ def test_extreme_inputs_after_lift_off_leave_no_hidden_state(fmu, unzipdir):
     assert hit.status() == 0
     hit.close()
     fresh.close()
+
+
+def _run_exit_paths(fmu, n: int) -> list[int]:
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = Path(__file__).parent / "fmu_exit_paths.py"
+    codes = []
+    for _ in range(n):
+        r = subprocess.run([sys.executable, str(script), str(fmu)], capture_output=True,
+                           text=True, timeout=300,
+                           env={**__import__("os").environ, "MALLOC_CHECK_": "3"})
+        codes.append(r.returncode)
+        assert r.returncode == 0 and r.stdout.strip().endswith("ok"), r.stderr[-2000:]
+    return codes
+
+
+def test_in_process_fmu_paths_exit_cleanly(fmu):
+    """The quarter car (locked and ABS), four instances, misuse and a corrupt state blob in
+    one process, instances left to the interpreter's shutdown: exit status 0 (with glibc's
+    heap checks on: MALLOC_CHECK_=3)."""
+    assert _run_exit_paths(fmu, 1) == [0]
+
+
+@pytest.mark.slow
+def test_in_process_fmu_paths_exit_cleanly_twenty_times(fmu):
+    """The same, 20 times: a heap corruption that strikes one run in three is caught."""
+    assert _run_exit_paths(fmu, 20) == [0] * 20
