@@ -118,7 +118,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.fmu:
             fmu = Path(args.fmu)
         else:
-            from fmu_src.build import build_fmu
+            from fmu_src.make.build import build_fmu
 
             fmu = build_fmu(args.tire, args.grid, Path(tmp) / "BrushTire.fmu").path
         unzipdir = fmpy.extract(str(fmu), str(Path(tmp) / "unzipped"))

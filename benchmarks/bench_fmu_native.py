@@ -10,8 +10,8 @@ angle of ~1 deg at 4 kN, 20 C; part of the patch sliding):
 
 * through fmpy's ``FMU2Slave`` (Python host, ctypes): median ``fmi2DoStep`` and full cycle
   (setReal, doStep, getReal), one instance, and four instances in lockstep (real-time factor);
-* through the C host ``fmu_src/native/host_example.c`` (dlopen, no Python): median doStep per
-  tire for one and for four tires, and the real-time factor of four tires;
+* through the C host ``fmu_src/runtime/native/host_example.c`` (dlopen, no Python): median
+  doStep per tire for one and for four tires, and the real-time factor of four tires;
 * the wrapper's overhead (input guard, value copies, FMI calls) separately: doStep with a
   communication step of 0 (the core returns at once), from C and through fmpy; and, for
   reference, the core alone from C (``benchmarks/core_step.c``, steady inputs from rest).
@@ -94,7 +94,7 @@ def c_host_times(fmu: Path, unzipdir: str, n_tires: int, steps: int, tmp: Path,
     """Median doStep per tire [us] and real-time factor (1 ms per step) from the C host."""
     import fmpy
 
-    from fmu_src.native_build import MODEL_IDENTIFIER, NATIVE_DIR
+    from fmu_src.make.native_build import MODEL_IDENTIFIER, NATIVE_DIR
 
     exe = tmp / "host"
     if not exe.exists():
@@ -142,7 +142,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.fmu:
             fmu = Path(args.fmu)
         else:
-            from fmu_src.native_build import build_native_fmu
+            from fmu_src.make.native_build import build_native_fmu
 
             fmu = build_native_fmu(args.tire, args.grid, tmp / "BrushTireNative.fmu",
                                    platforms=("linux64",)).path

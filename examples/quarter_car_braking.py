@@ -9,8 +9,8 @@ the wheel-centre speed, the wheel spin, the load and the road temperature to the
   up; the brake torque ``T_b`` acts against the spin and holds a stopped wheel, so a locked
   wheel stays at ``omega = 0``),
 
-with a semi-implicit Euler step. The loop is the library's :mod:`fmu_src.cosim`
-(:func:`~fmu_src.cosim.simulate_braking_fmu`); this script sets up the car and the brake and
+with a semi-implicit Euler step. The loop is the library's :mod:`fmu_src.host.cosim`
+(:func:`~fmu_src.host.cosim.simulate_braking_fmu`); this script sets up the car and the brake and
 plots. The brake torque ramps from zero to ``--torque`` (default 2500 N.m, beyond what the tire
 can transmit, so the wheel locks: the tread slides, reaches the hot branch of eq. (28) and the
 flash temperature rises). A lower ``--torque`` (e.g. 900 N.m) brakes without locking;
@@ -51,10 +51,10 @@ def simulate(fmu: Path, *, mass: float, inertia: float, v0: float, torque: float
              ramp: tuple[float, float], T_road: float, dt: float = 1e-3,
              t_max: float = 6.0, use_abs: bool = False,
              torque_rate: float = 20000.0) -> dict[str, np.ndarray]:
-    """Run the manoeuvre through :func:`fmu_src.cosim.simulate_braking_fmu`; returns time
+    """Run the manoeuvre through :func:`fmu_src.host.cosim.simulate_braking_fmu`; returns time
     series (SI units) by name (the state at the end of each step, from the start to the
     stop at 0.3 m/s or ``t_max``)."""
-    from fmu_src.cosim import CosimSettings, simulate_braking_fmu
+    from fmu_src.host.cosim import CosimSettings, simulate_braking_fmu
     from tire_brush.braking.abs_control import ABSParams, RuleBasedABS, TorqueRamp
     from tire_brush.braking.quarter_car import QuarterCar
 
@@ -129,7 +129,7 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory(prefix="quarter_car_") as tmp:
         fmu = Path(args.fmu) if args.fmu else None
         if fmu is None:
-            from fmu_src.build import build_fmu
+            from fmu_src.make.build import build_fmu
 
             fmu = build_fmu(args.tire, args.grid, Path(tmp) / "BrushTire.fmu").path
         data = simulate(fmu, mass=args.mass, inertia=args.inertia, v0=args.v0 / 3.6,

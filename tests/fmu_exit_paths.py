@@ -1,12 +1,13 @@
 """The in-process paths that used to crash the host at exit, run as one process.
 
 ``python tests/fmu_exit_paths.py FMU`` (a pythonfmu FMU of the shipped tire) runs, in one
-process: the quarter-car example's vehicle loop through :func:`fmu_src.cosim.simulate_braking_fmu`
-(locked wheel and ABS), four instances stepping side by side, every FMI misuse of
-``tests/test_fmu_cosim.py`` and a corrupt state blob, and exits leaving two instances for the
+process: the quarter-car example's vehicle loop through
+:func:`fmu_src.host.cosim.simulate_braking_fmu` (locked wheel and ABS), four instances
+stepping side by side, every FMI misuse of ``tests/test_fmu_cosim.py`` and a corrupt state
+blob, and exits leaving two instances for the
 interpreter's shutdown to release. The test that runs it requires exit status 0 each time
 (pythonfmu turned any Python exception into fmi2Fatal and released the instance, so the next
-call or the release at exit freed it twice: fmu_src/slave.py, module docstring).
+call or the release at exit freed it twice: fmu_src/runtime/slave.py, module docstring).
 """
 
 from __future__ import annotations

@@ -40,7 +40,7 @@ def synthetic_grid() -> Any:
 
 def build_test_fmu(directory: Path, name: str = "BrushTire.fmu", **options: Any) -> Path:
     """Build the FMU of the shipped passenger tire on :func:`synthetic_grid`."""
-    from fmu_src.build import BuildOptions, build_fmu
+    from fmu_src.make.build import BuildOptions, build_fmu
 
     return build_fmu("passenger", synthetic_grid(), Path(directory) / name,
                      BuildOptions(**options)).path

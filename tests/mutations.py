@@ -79,13 +79,13 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
      "return self.sigma_f0 * np.exp(-self.c * x * x)",
      "return self.sigma_f0 * np.exp(-2.0 * self.c * x * x)"),
     # -- FMU unit definitions (fmu_src/) ------------------------------------------------------
-    ("FMU degC display offset sign", "fmu_src/interface.py",
+    ("FMU degC display offset sign", "fmu_src/runtime/interface.py",
      '"K": (("degC", 1.0, -273.15),),', '"K": (("degC", 1.0, 273.15),),'),
-    ("FMU rad/s base-unit exponent", "fmu_src/interface.py",
+    ("FMU rad/s base-unit exponent", "fmu_src/runtime/interface.py",
      '"rad/s": {"rad": 1, "s": -1},', '"rad/s": {"rad": 1, "s": 1},'),
-    ("FMU N.m base-unit exponent", "fmu_src/interface.py",
+    ("FMU N.m base-unit exponent", "fmu_src/runtime/interface.py",
      '"N.m": {"kg": 1, "m": 2, "s": -2},', '"N.m": {"kg": 1, "m": 1, "s": -2},'),
-    ("FMU state error outside the TirefricError hierarchy", "fmu_src/state.py",
+    ("FMU state error outside the TirefricError hierarchy", "fmu_src/runtime/state.py",
      "class StateFormatError(TirefricError, ValueError):", "class StateFormatError(ValueError):"),
     # -- tire and braking (tire_brush/) -------------------------------------------------------
     ("slip defined on the rolling speed (omega R_e) instead of vx", "tire_brush/slip.py",

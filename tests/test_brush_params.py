@@ -73,7 +73,7 @@ def test_parameter_docs_are_written_from_the_fields() -> None:
     the loader, the validation and the FMU read the same metadata)."""
     from pathlib import Path
 
-    from fmu_src.interface import TIRE_FIELDS
+    from fmu_src.runtime.interface import TIRE_FIELDS
     from tire_brush.params import field_table, parameters_markdown
 
     doc = Path(__file__).parents[1] / "docs" / "tire-parameters.md"

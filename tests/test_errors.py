@@ -13,7 +13,7 @@ import pytest
 import fmu_src
 import lookup
 import tire_brush
-from fmu_src.state import StateFormatError, from_bytes, to_bytes
+from fmu_src.runtime.state import StateFormatError, from_bytes, to_bytes
 from lookup.errors import TirefricError
 
 

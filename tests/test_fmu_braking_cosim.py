@@ -1,4 +1,4 @@
-"""Quarter-car braking through the FMU (fmu_src.cosim) and its plug-in into the braking study.
+"""Quarter-car braking through the FMU (fmu_src.host.cosim) and its plug-in into the braking study.
 
 The fast tests use the synthetic grid of :mod:`fmu_support` (packaging and co-simulation
 behaviour); the slow test compares the rule-based ABS through the FMU with the same ABS on the
@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from fmu_support import build_test_fmu, synthetic_grid
 
-from fmu_src.cosim import (
+from fmu_src.host.cosim import (
     CosimSettings,
     braking_simulator,
     simulate_braking_fmu,
@@ -117,12 +117,7 @@ def test_time_limit_and_bad_inputs(fmu):
         CosimSettings(step=0.0)
 
 
-def test_plug_in_builds_once_and_is_found_by_the_study(tmp_path):
-    from tire_brush.braking.study import load_braking_simulator
-
-    assert load_braking_simulator("fmu") is braking_simulator, "entry point registered"
-    with pytest.raises(InputError, match="no braking simulator"):
-        load_braking_simulator("nonexistent")
+def test_simulator_factory_builds_once(tmp_path):
     grid = synthetic_grid().save_npz(tmp_path / "synthetic.npz")
     sim = braking_simulator("passenger", grid, tmp_path / "work", {"step": 1e-3})
     assert Path(sim.fmu).is_file()
@@ -243,7 +238,7 @@ def test_fmu_abs_agrees_with_the_steady_map_abs_on_the_default_grid(tmp_path, T_
 
 
 def test_demo_manoeuvre_writes_its_plot_and_numbers(fmu, tmp_path):
-    from fmu_src.cosim import demo_manoeuvre
+    from fmu_src.host.cosim import demo_manoeuvre
 
     figures, numbers = demo_manoeuvre(fmu, tmp_path, v0=12.0, settings=CosimSettings())
     assert figures[0].stat().st_size > 10_000

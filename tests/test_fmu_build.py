@@ -13,8 +13,8 @@ import pytest
 from fmu_support import INPUTS, OUTPUTS, braking_inputs, build_test_fmu, synthetic_grid
 from test_fmu_units import _si_exponents
 
-from fmu_src.build import BuildError, BuildOptions, build_fmu, guid_of
-from fmu_src.interface import UNITS
+from fmu_src.make.build import BuildError, BuildOptions, build_fmu, guid_of
+from fmu_src.runtime.interface import UNITS
 from lookup.cli import main
 from lookup.errors import TirefricError
 from tire_brush.friction import GridFriction

@@ -22,7 +22,7 @@ from fmu_support import (
     synthetic_grid,
 )
 
-from fmu_src.interface import STATUS_BITS
+from fmu_src.runtime.interface import STATUS_BITS
 from tire_brush.friction import GridFriction
 from tire_brush.params import load_tire
 from tire_brush.transient import N_TRANSIENT, TransientBrushTire
@@ -93,7 +93,7 @@ def test_pythonfmu_misuse_is_logged_and_changes_nothing(fmu, unzipdir):
     """Every misuse FMI 2.0 lets an FMU recover from: never fmi2Fatal (pythonfmu would free
     the Python instance and the host would crash on its next call), an fmi2Error message in
     the log, and nothing changed: the instance then steps exactly like a twin that saw no
-    misuse (fmu_src/slave.py, module docstring)."""
+    misuse (fmu_src/runtime/slave.py, module docstring)."""
     from fmpy.fmi1 import FMICallException
 
     # the twin first: fmpy's logger proxy delivers every instance's messages to the logger
@@ -189,7 +189,7 @@ def test_fmu_ignores_other_modules_of_the_same_names(fmu, tmp_path):
         import json, sys, types
         for name in ("lookup", "lookup.errors", "lookup.grid", "lookup.grid.reader",
                      "tire_brush", "tire_brush.transient", "tire_brush.params", "fmu_src",
-                     "fmu_src.slave", "fmu_src.guard"):
+                     "fmu_src.runtime.slave", "fmu_src.runtime.guard"):
             sys.modules[name] = types.ModuleType(name)   # empty impostors
         sys.path.insert(0, {str(tmp_path)!r})
         sys.path.insert(0, {str(__file__.rsplit("/", 1)[0])!r})
@@ -339,7 +339,7 @@ def test_quarter_car_example_on_the_shipped_grid(tmp_path):
     import runpy
     from pathlib import Path
 
-    from fmu_src.build import build_fmu
+    from fmu_src.make.build import build_fmu
 
     ex = runpy.run_path(str(Path(__file__).parents[1] / "examples" / "quarter_car_braking.py"))
     fmu = build_fmu("passenger", "default", tmp_path / "BrushTire.fmu").path

@@ -15,15 +15,15 @@ import numpy as np
 import pytest
 from fmu_support import INPUTS, OUTPUTS, FmuDriver, braking_inputs, synthetic_grid
 
-from fmu_src.build import BuildOptions
-from fmu_src.guard import InputGuard
-from fmu_src.interface import LIMITS, default_limits
-from fmu_src.native_build import (
+from fmu_src.make.build import BuildOptions
+from fmu_src.make.native_build import (
     MODEL_IDENTIFIER,
     TABLE_FILE,
     build_native_fmu,
     read_table_bytes,
 )
+from fmu_src.runtime.guard import InputGuard
+from fmu_src.runtime.interface import LIMITS, default_limits
 from tire_brush.friction import GridFriction, as_table
 from tire_brush.params import load_tire
 from tire_brush.transient import TransientBrushTire
@@ -308,13 +308,13 @@ def compile_host(source, unzipdir, exe):
 
 
 def test_c_host_dlopens_and_steps(fmu, unzipdir, tmp_path):
-    """fmu_src/native/host_example.c (the README's example) loads the binary with dlopen and
+    """fmu_src/runtime/native/host_example.c (the README's example) loads the binary with dlopen and
     steps 4 tires; tire 0 equals the Python model bit for bit."""
     from pathlib import Path
 
     import fmpy
 
-    from fmu_src.native_build import NATIVE_DIR
+    from fmu_src.make.native_build import NATIVE_DIR
 
     exe = compile_host(NATIVE_DIR / "host_example.c", unzipdir, tmp_path / "host")
     md = fmpy.read_model_description(str(fmu))

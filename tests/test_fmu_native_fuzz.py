@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from fmu_support import synthetic_grid
 
-from fmu_src.native_build import MODEL_IDENTIFIER, build_native_fmu
+from fmu_src.make.native_build import MODEL_IDENTIFIER, build_native_fmu
 
 pytestmark = pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
 FUZZ = Path(__file__).with_name("native_fuzz.c")

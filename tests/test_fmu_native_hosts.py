@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from fmu_support import synthetic_grid
 
-from fmu_src.native_build import MODEL_IDENTIFIER, build_native_fmu, compilers
+from fmu_src.make.native_build import MODEL_IDENTIFIER, build_native_fmu, compilers
 from tire_brush.friction import GridFriction
 from tire_brush.params import load_tire
 from tire_brush.transient import TransientBrushTire

@@ -11,12 +11,13 @@ import pytest
 from fmu_support import INPUTS, OUTPUTS, braking_inputs, synthetic_grid
 from pythonfmu.enums import Fmi2Status
 
-from fmu_src import interface, package
-from fmu_src import state as state_io
-from fmu_src.build import stage_resources
-from fmu_src.guard import InputGuard
-from fmu_src.interface import STATUS_BITS, UNITS
-from fmu_src.slave import BrushTireSlave
+from fmu_src.make import package
+from fmu_src.make.build import stage_resources
+from fmu_src.runtime import interface
+from fmu_src.runtime import state as state_io
+from fmu_src.runtime.guard import InputGuard
+from fmu_src.runtime.interface import STATUS_BITS, UNITS
+from fmu_src.runtime.slave import BrushTireSlave
 from tire_brush.friction import GridFriction
 from tire_brush.params import load_tire
 from tire_brush.transient import TransientBrushTire
@@ -192,7 +193,7 @@ def test_state_rollback_and_serialization_are_bit_exact(resources):
 
 def test_state_of_another_build_or_discretisation_is_refused(resources):
     """Refused states are logged as errors and change nothing (the slave never raises into
-    pythonfmu, which would make it fmi2Fatal: fmu_src/slave.py, module docstring)."""
+    pythonfmu, which would make it fmi2Fatal: fmu_src/runtime/slave.py, module docstring)."""
     s = make_slave(resources)
     step(s, [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0])
     before = state_io.to_bytes(s._get_fmu_state())

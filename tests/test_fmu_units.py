@@ -14,7 +14,7 @@ from collections import Counter
 
 import pytest
 
-from fmu_src.interface import DISPLAY_UNITS, UNITS
+from fmu_src.runtime.interface import DISPLAY_UNITS, UNITS
 
 _DERIVED = {"N": {"kg": 1, "m": 1, "s": -2}, "J": {"kg": 1, "m": 2, "s": -2},
             "W": {"kg": 1, "m": 2, "s": -3}}

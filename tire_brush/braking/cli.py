@@ -9,8 +9,12 @@ SUMMARY_KEYS = ("case", "stopping_distance_ocp", "stopping_distance_abs",
                 "stopping_distance_locked", "point_mass_bound", "optimal_slip")
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    """Register ``tirefric abs`` and its sub-commands."""
+def register(sub: argparse._SubParsersAction, simulator_factory=None) -> None:
+    """Register ``tirefric abs`` and its sub-commands.
+
+    ``simulator_factory`` is handed to :func:`~tire_brush.braking.study.run_study` for the
+    studies that ask for the ABS through the FMU (the top layer, :mod:`fmu_src.host.abs_cli`,
+    passes it; without it such a study is refused with a message)."""
     p = sub.add_parser("abs", help="braking studies: optimal control, rule-based ABS, locked",
                        description="Braking studies on a quarter car: minimum stopping "
                                    "distance by optimal control (CasADi/IPOPT), a rule-based "
@@ -28,7 +32,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     s.add_argument("--json", action="store_true",
                    help="print the results document (as results.json) on stdout")
-    s.set_defaults(func=_run_study)
+    s.set_defaults(func=_run_study, simulator_factory=simulator_factory)
 
 
 def _run_study(args: argparse.Namespace) -> int:
@@ -39,7 +43,8 @@ def _run_study(args: argparse.Namespace) -> int:
     spec = load_study(args.spec)
     progress = None if args.json else (lambda msg: print(f"# {msg}", file=sys.stderr))
     results = run_study(spec, scheduler=args.scheduler, progress=progress,
-                        work_dir=args.output)
+                        work_dir=args.output,
+                        simulator_factory=getattr(args, "simulator_factory", None))
     doc = write_results(spec, results, args.output, plots=not args.no_plots,
                         spec_path=args.spec)
     if args.json:

@@ -20,8 +20,8 @@ friction source, the cases and the settings. For each case the runner
    three stopping distances compare on identical physics. With ``[abs] slip_threshold =
    "slip_map"`` the ABS releases at the case's optimal slip per speed
    (:func:`abs_slip_schedule`). With ``[study] fmu_abs = true`` the same ABS also brakes the
-   car through the brush-tire FMU (the transient model), by the plug-in registered as
-   ``fmu`` in the entry-point group :data:`SIMULATOR_GROUP` (``stopping_distance_abs_fmu``);
+   car through the brush-tire FMU (the transient model), with the simulator factory handed
+   to :func:`run_study` by the top layer (``stopping_distance_abs_fmu``);
 4. returns a :class:`CaseResult`; :func:`write_results` writes the table (CSV, JSON), the
    trajectories, the slip maps and the plots.
 
@@ -71,8 +71,6 @@ RESULT_KEYS = (
 #: Initial guesses the OCP can start from (``[ocp] starts``, :func:`solve_ocp_from_starts`).
 OCP_STARTS = ("deceleration", "locked")
 
-#: Entry-point group of braking simulators that plug into the study (``[study] fmu_abs``).
-SIMULATOR_GROUP = "tirefric.braking_simulators"
 
 
 @dataclass(frozen=True)
@@ -455,7 +453,7 @@ def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: S
 
 def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResult:
     """Run one case: force map, slip maps, OCP, ABS and locked-wheel simulations, and with
-    ``fmu_simulator`` (a plug-in of :data:`SIMULATOR_GROUP`) the ABS through the FMU."""
+    ``fmu_simulator`` (from :func:`fmu_simulators`) the ABS through the FMU."""
     car = spec.car
     fmap, prov, label = case_force_map(spec, case)
     v_bound = np.geomspace(spec.v_stop, spec.v0, 25)
@@ -543,59 +541,55 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
                       slip_map=sm, force_map=fmap, provenance=provenance, abs_fmu=abs_fmu)
 
 
-def load_braking_simulator(name: str) -> Any:
-    """The factory registered as ``name`` in the entry-point group :data:`SIMULATOR_GROUP`.
+def fmu_simulators(spec: StudySpec, work_dir: str | Path,
+                   simulator_factory: Any) -> dict[str, Any]:
+    """One FMU simulator per case label, built once per (tire, grid) into ``work_dir``.
 
-    A factory is called as ``factory(tire, grid, work_dir, options)`` and returns a picklable
-    simulator ``sim(car, controller, v0, v_stop, T_ambient, *, brake_torque_initial)`` whose
-    result has the attributes of :class:`.simulation.SimResult` (``t``, ``x``, ``v``,
-    ``omega``, ``brake_torque``, ``kappa``, ``mu``, ``T_tread``, ``phase``,
-    ``stopping_distance``, ``stop_time``, ``dt``). tirefric's FMU registers ``fmu``
-    (``fmu_src.cosim:braking_simulator``); ``tire_brush`` never imports it by name.
+    ``simulator_factory`` is called as ``factory(tire, grid, work_dir, options)`` and returns a
+    picklable simulator ``sim(car, controller, v0, v_stop, T_ambient, *,
+    brake_torque_initial)`` whose result has the attributes of :class:`.simulation.SimResult`
+    (``t``, ``x``, ``v``, ``omega``, ``brake_torque``, ``kappa``, ``mu``, ``T_tread``,
+    ``phase``, ``stopping_distance``, ``stop_time``, ``dt``). The FMU's host side hands in
+    :func:`fmu_src.host.cosim.braking_simulator`; this package never imports it.
     """
-    from importlib.metadata import entry_points
-
-    eps = {ep.name: ep for ep in entry_points(group=SIMULATOR_GROUP)}
-    if name not in eps:
-        raise InputError(f"no braking simulator '{name}' is installed (entry-point group "
-                         f"'{SIMULATOR_GROUP}' has: {', '.join(sorted(eps)) or 'none'})",
-                         field="study.fmu_abs", value=name)
-    return eps[name].load()
-
-
-def fmu_simulators(spec: StudySpec, work_dir: str | Path) -> dict[str, Any]:
-    """One FMU simulator per case label, built once per (tire, grid) into ``work_dir``."""
     from .friction import brush_inputs
 
-    factory = load_braking_simulator("fmu")
     built: dict[tuple[str, str], Any] = {}
     out = {}
     for case in spec.cases:
         key = brush_inputs(spec.friction, case, Path(spec.base_dir))
         if key not in built:
-            built[key] = factory(*key, Path(work_dir), dict(spec.fmu))
+            built[key] = simulator_factory(*key, Path(work_dir), dict(spec.fmu))
         out[case.label] = built[key]
     return out
 
 
 def run_study(spec: StudySpec, scheduler: str | None = None, progress=None,
-              work_dir: str | Path | None = None) -> list[CaseResult]:
+              work_dir: str | Path | None = None,
+              simulator_factory: Any = None) -> list[CaseResult]:
     """Run every case, locally in order or as Dask tasks on ``scheduler`` (an address).
 
-    ``work_dir`` receives what plug-in simulators build (the FMUs of ``[study] fmu_abs``;
-    with a scheduler it must be a folder the workers can read). None: a temporary folder,
+    ``simulator_factory`` builds the FMU simulators of a study with ``[study] fmu_abs``
+    (:func:`fmu_simulators`; ``tirefric abs`` and the demo hand in
+    :func:`fmu_src.host.cosim.braking_simulator`). ``work_dir`` receives what they build
+    (with a scheduler it must be a folder the workers can read); None: a temporary folder,
     removed when the study ends.
     """
+    if spec.fmu_abs and simulator_factory is None:
+        raise InputError("the study asks for the ABS through the FMU but no FMU simulator was "
+                         "handed to it: run it with `tirefric abs study`, or pass "
+                         "simulator_factory=fmu_src.host.cosim.braking_simulator",
+                         field="study.fmu_abs", value=spec.fmu_abs)
     if spec.fmu_abs and work_dir is None:
         import tempfile
 
         with tempfile.TemporaryDirectory(prefix="tirefric_study_") as tmp:
-            return run_study(spec, scheduler, progress, tmp)
+            return run_study(spec, scheduler, progress, tmp, simulator_factory)
     sims: dict[str, Any] = {}
     if spec.fmu_abs:
         if progress is not None:
             progress(f"FMU build into {work_dir}")
-        sims = fmu_simulators(spec, work_dir)
+        sims = fmu_simulators(spec, work_dir, simulator_factory)
     if scheduler is None:
         out = []
         for case in spec.cases:

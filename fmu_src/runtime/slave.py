@@ -2,21 +2,21 @@
 
 :class:`BrushTireSlave` holds no physics. It
 
-* registers the variables of :mod:`fmu_src.interface` (inputs, outputs, tire parameters, model
-  options, input envelope, provenance strings);
+* registers the variables of :mod:`fmu_src.runtime.interface` (inputs, outputs, tire
+  parameters, model options, input envelope, provenance strings);
 * builds a :class:`tire_brush.transient.TransientBrushTire` on the grid in its resources when
   initialisation ends (parameters are ``fixed``: set them before that);
-* per ``doStep``: passes the inputs through :class:`fmu_src.guard.InputGuard`, advances the
+* per ``doStep``: passes the inputs through :class:`fmu_src.runtime.guard.InputGuard`, advances the
   model by the communication step (the model splits it into sub-steps of at most
   ``dt_internal``) and publishes the model's outputs;
 * saves and restores its full state (:meth:`_get_fmu_state`), serialized exactly by
-  :mod:`fmu_src.state`.
+  :mod:`fmu_src.runtime.state`.
 
 Status of ``doStep`` (pythonfmu can return fmi2OK or fmi2Discard):
 
 * fmi2OK -- the step was taken. If inputs had to be repaired (NaN, negative load, beyond the
   envelope) the output ``input_status`` says which (bits of
-  :data:`fmu_src.interface.STATUS_BITS`) and a warning goes to the FMI logger when the
+  :data:`fmu_src.runtime.interface.STATUS_BITS`) and a warning goes to the FMI logger when the
   condition starts (logging on: fmpy ``debug_logging=True``).
 * fmi2Discard -- nothing was advanced because the communication step is negative, not finite
   or longer than :data:`MAX_SUBSTEPS` internal steps; or the model failed inside the step
@@ -35,8 +35,8 @@ path; the native FMU returns fmi2Error for the same cases). Getters of invalid r
 return zeros. Messages reach the host only with logging on.
 
 In the FMU this file is the slave module (renamed, imports pointing at the FMU's private copy
-of the packages, see :mod:`fmu_src.package`); in a source checkout it runs as is, given a
-resources folder made by :func:`fmu_src.build.stage_resources`.
+of the packages, see :mod:`fmu_src.make.package`); in a source checkout it runs as is, given a
+resources folder made by :func:`fmu_src.make.build.stage_resources`.
 """
 
 from __future__ import annotations
@@ -58,9 +58,9 @@ from pythonfmu import (
 )
 from pythonfmu.enums import Fmi2Status
 
-from fmu_src import state as state_io
-from fmu_src.guard import InputGuard
-from fmu_src.interface import (
+from fmu_src.runtime import state as state_io
+from fmu_src.runtime.guard import InputGuard
+from fmu_src.runtime.interface import (
     INPUTS,
     LIMITS,
     MODEL_NAME,
@@ -322,7 +322,7 @@ class BrushTireSlave(Fmi2Slave):
 
     @staticmethod
     def _fmu_state_to_bytes(state: dict[str, Any]) -> bytes:
-        """Exact serialization (numpy arrays included): :func:`fmu_src.state.to_bytes`."""
+        """Exact serialization (numpy arrays included): :func:`fmu_src.runtime.state.to_bytes`."""
         return state_io.to_bytes(state)
 
     @staticmethod

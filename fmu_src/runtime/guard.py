@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from fmu_src.interface import STATUS_BITS
+from fmu_src.runtime.interface import STATUS_BITS
 
 #: Input names in the order the guard takes them.
 NAMES = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale")
@@ -49,7 +49,7 @@ class InputGuard:
     Parameters
     ----------
     limits
-        ``limit.*`` values of :data:`fmu_src.interface.LIMITS` [SI].
+        ``limit.*`` values of :data:`fmu_src.runtime.interface.LIMITS` [SI].
     start
         Start values of the inputs (the substitute for a non-finite input before any finite
         one has been seen), in :data:`NAMES` order.
@@ -81,7 +81,7 @@ class InputGuard:
         Returns
         -------
         values, status, messages
-            Inputs to pass to the model, the sum of :data:`~fmu_src.interface.STATUS_BITS`
+            Inputs to pass to the model, the sum of :data:`~fmu_src.runtime.interface.STATUS_BITS`
             of this step, and ``(fmi status, text)`` pairs to log.
         """
         x = list(u)

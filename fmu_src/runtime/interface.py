@@ -1,8 +1,8 @@
 """The FMU's interface as data: variables, units, start values and dependencies.
 
 One table describes every variable of the brush-tire FMU (name, causality, type, unit,
-description, start value); the slave (:mod:`fmu_src.slave`) registers its variables from it and
-the build (:mod:`fmu_src.model_description`) writes units, unit definitions and the model
+description, start value); the slave (:mod:`fmu_src.runtime.slave`) registers its variables from it
+and the build (:mod:`fmu_src.make.model_description`) writes units, unit definitions and the model
 structure from the same table, so the two cannot disagree.
 
 Conventions (``docs/design.md``, "Units" and "Conventions"): SI units, FMI structured names.
@@ -165,8 +165,8 @@ OPTIONS: dict[str, tuple[str, str | None, str]] = {
     "v_floor": ("Real", "m/s", "Speed floor of the reported kappa and alpha [m/s]"),
 }
 
-#: Input envelope (:mod:`fmu_src.guard`): name -> (unit, description). Start values come from
-#: :func:`default_limits`.
+#: Input envelope (:mod:`fmu_src.runtime.guard`): name -> (unit, description). Start values
+#: come from :func:`default_limits`.
 LIMITS: dict[str, tuple[str, str]] = {
     "limit.v": ("m/s", "Largest |vx| and |vy| passed to the model [m/s]; larger inputs are "
                        "clamped (input_status bit 4)"),
@@ -224,8 +224,9 @@ def check_tire_fields() -> list[str]:
     """Problems: tire parameters without an FMU variable, or FMU variables without a field."""
     have = tire_field_paths()
     problems = [f"tire parameter '{p}' has no FMU variable: add it to "
-                f"fmu_src.interface.TIRE_FIELDS" for p in have if p not in TIRE_FIELDS]
-    problems += [f"fmu_src.interface.TIRE_FIELDS names '{p}', which TireParams does not have"
+                f"fmu_src.runtime.interface.TIRE_FIELDS" for p in have if p not in TIRE_FIELDS]
+    problems += [f"fmu_src.runtime.interface.TIRE_FIELDS names '{p}', which TireParams does "
+                 f"not have"
                  for p in TIRE_FIELDS if p not in have]
     return problems
 

@@ -142,7 +142,7 @@ def _tire_curves(grid, out: Path, log: DemoLog) -> Path:
 def _fmu(grid_path: Path, out: Path, log: DemoLog) -> Path:
     from fmpy.validation import validate_fmu
 
-    from .build import build_fmu
+    from fmu_src.make.build import build_fmu
 
     report = build_fmu("passenger", grid_path if grid_path.is_file() else "default",
                        out / "BrushTire.fmu")
@@ -172,7 +172,10 @@ def _study(out: Path, log: DemoLog) -> list[Path]:
     from tire_brush.braking.study import load_study, run_study, write_results
 
     spec = load_study(models_dir() / "studies" / "abs_default.toml")
-    results = run_study(spec, progress=lambda s: log.echo(f"      {s}"))
+    from .cosim import braking_simulator
+
+    results = run_study(spec, progress=lambda s: log.echo(f"      {s}"),
+                        simulator_factory=braking_simulator)
     doc = write_results(spec, results, out / "abs_study")
     log.numbers["study"] = doc.get("cases", [r.summary for r in results])
     plots = out / "abs_study" / "plots"

@@ -2,14 +2,14 @@
  * FMI 2.0 co-simulation wrapper of the tirefric transient brush tire (the "native" FMU).
  *
  * Compiled together with the tire core (tire_brush/csrc/tirecore.c) and a header generated at
- * build time (tfn_config.h, fmu_src/native_build.py: the variable table of
- * fmu_src/interface.py with start values, bounds, value references and the mapping of the
+ * build time (tfn_config.h, fmu_src/make/native_build.py: the variable table of
+ * fmu_src/runtime/interface.py with start values, bounds, value references and the mapping of the
  * parameters onto tf_params). Needs nothing on the host but libc and libm.
  *
- * Behaviour (same as the pythonfmu slave fmu_src/slave.py, plus FMI status codes):
+ * Behaviour (same as the pythonfmu slave fmu_src/runtime/slave.py, plus FMI status codes):
  *  - parameters are fixed: set them before fmi2ExitInitializationMode, which validates them and
  *    builds the core tire on the friction table of resources/tirefric-table.bin;
- *  - each doStep passes the inputs through the input guard of fmu_src/guard.py (same clamps,
+ *  - each doStep passes the inputs through the input guard of fmu_src/runtime/guard.py (same clamps,
  *    same input_status bits, messages once when a condition starts and when it clears), then
  *    advances the core by the communication step. Returns fmi2OK, or fmi2Warning when the step's
  *    inputs had to be repaired (input_status != 0), fmi2Discard when the core failed (it is then
@@ -296,7 +296,7 @@ static int same_params(const double *a, const double *b) {
     return 1;
 }
 
-/* -- input guard (fmu_src/guard.py) ----------------------------------------------------------- */
+/* -- input guard (fmu_src/runtime/guard.py) ----------------------------------------------------------- */
 static int guard_apply(comp *c, const double *u, double *x, const char *when) {
     int found[TFN_NGUARD] = {0}, any = 0, any_active = 0;
     const double *v = c->v;

@@ -1,4 +1,4 @@
-"""``tirefric fmu build|info``: a thin shell over :mod:`fmu_src.build`."""
+"""``tirefric fmu build|info``: a thin shell over :mod:`fmu_src.make.build`."""
 
 from __future__ import annotations
 

@@ -2,7 +2,7 @@
 
 pythonfmu writes the variables with their causality, variability and description, but no
 units, no unit definitions, no InitialUnknowns, a random GUID and the build time. This module
-rewrites the file from :mod:`fmu_src.interface`, the one table the slave registers its
+rewrites the file from :mod:`fmu_src.runtime.interface`, the one table the slave registers its
 variables from:
 
 * model attributes: name, GUID (derived from the build inputs), description, author, version,
@@ -18,7 +18,7 @@ variables from:
 * ``VendorAnnotations`` naming the grid's hash, the tire and the build id;
 * ``ModelStructure``: every output under ``Outputs`` with no dependencies (no direct
   feedthrough in co-simulation) and under ``InitialUnknowns`` with the dependencies of
-  :data:`fmu_src.interface.INITIAL_DEPENDENCIES`.
+  :data:`fmu_src.runtime.interface.INITIAL_DEPENDENCIES`.
 
 This module runs at build time only.
 """
@@ -31,9 +31,14 @@ import time
 import xml.etree.ElementTree as ET
 from typing import Any
 
+from fmu_src.runtime.interface import (
+    DISPLAY_UNITS,
+    INITIAL_DEPENDENCIES,
+    MODEL_NAME,
+    UNITS,
+    Variable,
+)
 from lookup.errors import TirefricError
-
-from .interface import DISPLAY_UNITS, INITIAL_DEPENDENCIES, MODEL_NAME, UNITS, Variable
 
 #: FMI 2.0 base units in schema order.
 _BASE_UNITS = ("kg", "m", "s", "A", "K", "mol", "cd", "rad")
@@ -86,7 +91,7 @@ def postprocess(xml: bytes, variables: list[Variable], *, guid: str, model: dict
     xml
         The file pythonfmu wrote.
     variables
-        :func:`fmu_src.interface.variables` of the build (value-reference order).
+        :func:`fmu_src.runtime.interface.variables` of the build (value-reference order).
     guid
         The FMU's GUID.
     model
@@ -98,7 +103,7 @@ def postprocess(xml: bytes, variables: list[Variable], *, guid: str, model: dict
         DefaultExperiment [s].
     model_identifier
         ``CoSimulation/@modelIdentifier`` (name of the binary): :data:`MODEL_NAME` for the
-        pythonfmu flavour, ``BrushTireNative`` for the native one (:mod:`fmu_src.native_build`,
+        pythonfmu flavour, ``BrushTireNative`` for the native one (:mod:`fmu_src.make.native_build`,
         which writes the input XML itself in pythonfmu's form).
     source_files
         C files under ``sources/`` to list in ``CoSimulation/SourceFiles`` (native flavour).

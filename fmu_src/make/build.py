@@ -4,15 +4,16 @@ Steps of :func:`build_fmu`:
 
 1. **Inputs.** The tire (:func:`tire_brush.params.load_tire`: a TOML file or a shipped name)
    and the friction grid (:func:`lookup.grid.load_grid`: NetCDF or npz, or a shipped name).
-2. **Runtime.** :func:`fmu_src.package.build_runtime` collects the modules the slave needs under
-   a private package name and checks that they import only numpy and the standard library.
+2. **Runtime.** :func:`fmu_src.make.package.build_runtime` collects the modules the slave
+   needs under a private package name and checks that they import only numpy and the
+   standard library.
 3. **Resources** (:func:`stage_resources`): the grid as a numpy ``.npz`` archive (the format
    the numpy-only reader loads; same content hash as the source grid), ``build.json`` (tire
    parameters, model options, input envelope, grid hash and provenance, build id) and
    ``requirements.txt`` (what the host's Python needs: numpy; ``pythonfmu deploy`` reads it).
 4. **pythonfmu** builds the FMU in a child process (it imports the slave to write the model
    description; the child keeps those imports out of this interpreter).
-5. **Post-processing** (:mod:`fmu_src.model_description`): units, InitialUnknowns, GUID, model
+5. **Post-processing** (:mod:`fmu_src.make.model_description`): units, InitialUnknowns, GUID, model
    metadata. The archive is rewritten with sorted entries and fixed timestamps, so the same
    inputs give the same bytes (and the same GUID).
 6. **Validation** with ``fmpy.validation.validate_fmu``: any problem stops the build.
@@ -40,16 +41,22 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
+from fmu_src.runtime.interface import (
+    MODEL_NAME,
+    check_tire_fields,
+    default_limits,
+    tire_to_dict,
+    variables,
+)
+from fmu_src.runtime.slave import BUILD_FILE, CORE_DIR, DATA_DIR
 from lookup import __version__
 from lookup.errors import InputError, TirefricError
 from tire_brush.params import TireParams, load_tire
 from tire_brush.slip import V_FLOOR
 from tire_brush.transient import DT_INTERNAL, N_TRANSIENT
 
-from .interface import MODEL_NAME, check_tire_fields, default_limits, tire_to_dict, variables
 from .model_description import postprocess
 from .package import RuntimePackage, build_runtime
-from .slave import BUILD_FILE, CORE_DIR, DATA_DIR
 
 #: Name of the grid archive inside the FMU's data folder.
 GRID_FILE = "grid.npz"
@@ -247,8 +254,8 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
 
     ``directory/tirefric-data/`` receives ``build.json`` and the grid archive; with
     ``runtime`` given, its sources and ``requirements.txt`` are written as well (the full
-    resources folder). Without it, the folder is enough for :class:`fmu_src.slave.BrushTireSlave`
-    to run in a source checkout (tests).
+    resources folder). Without it, the folder is enough for
+    :class:`fmu_src.runtime.slave.BrushTireSlave` to run in a source checkout (tests).
 
     Raises
     ------
@@ -347,7 +354,7 @@ def build_fmu(tire: str | Path | TireParams, grid: str | Path | Any, output: str
     validate
         Run fmpy's validation and refuse an FMU with problems.
     native
-        Build the Python-free flavour instead (:func:`fmu_src.native_build.build_native_fmu`:
+        Build the Python-free flavour instead (:func:`fmu_src.make.native_build.build_native_fmu`:
         the C core with an FMI wrapper, for every platform a compiler is found for).
 
     Returns

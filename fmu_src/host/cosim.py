@@ -40,9 +40,10 @@ so that the FMU run and the steady-map run share the tread-temperature equation
 ``C dT/dt = eta P_fric - G (T - T_ambient)``; ``thermal="fmu"`` keeps the FMU's own tire
 parameters.
 
-The study plug-in (entry point ``tirefric.braking_simulators``, name ``fmu``) is
-:func:`braking_simulator`: it builds the FMU of a tire and grid once into a work folder and
-returns a picklable :class:`FmuBrakingSimulator`.
+The braking study's FMU simulator factory is :func:`braking_simulator`, handed to
+:func:`tire_brush.braking.study.run_study` by ``tirefric abs`` (:mod:`fmu_src.host.abs_cli`)
+and the demo: it builds the FMU of a tire and grid once into a work folder and returns a
+picklable :class:`FmuBrakingSimulator`.
 """
 
 from __future__ import annotations
@@ -435,7 +436,7 @@ class FmuBrakingSimulator:
 
 def braking_simulator(tire: str | Path, grid: str | Path, work_dir: str | Path,
                       options: Mapping[str, Any] | None = None) -> FmuBrakingSimulator:
-    """Entry point ``tirefric.braking_simulators: fmu``: build the FMU once, return the
+    """The braking study's FMU simulator factory: build the FMU once, return the
     simulator.
 
     The FMU of ``tire`` on ``grid`` (names or files, as ``tirefric fmu build`` takes them)
@@ -454,7 +455,7 @@ def braking_simulator(tire: str | Path, grid: str | Path, work_dir: str | Path,
         (``"vehicle"``/``"fmu"``) and FMU parameter start values by name (``n_elements``,
         ``dt_internal``, ...).
     """
-    from fmu_src.build import build_fmu
+    from fmu_src.make.build import build_fmu
     from lookup.grid import load_grid
     from tire_brush.params import load_tire
 
