@@ -9,6 +9,7 @@ import math
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -422,3 +423,40 @@ def test_in_process_fmu_paths_exit_cleanly(fmu):
 def test_in_process_fmu_paths_exit_cleanly_twenty_times(fmu):
     """The same, 20 times: a heap corruption that strikes one run in three is caught."""
     assert _run_exit_paths(fmu, 20) == [0] * 20
+
+
+def test_c_host_without_numpy_gets_a_message_not_a_crash(fmu, tmp_path):
+    """A C host with libpython in the process whose Python cannot import numpy (stood in for
+    by a ``numpy`` that raises ImportError first on PYTHONPATH): fmi2Instantiate returns NULL
+    and the FMI logger says what is missing and which flavour to take; no crash."""
+    import os
+    import shutil
+    import subprocess
+    import sysconfig
+    import zipfile
+
+    import fmpy
+
+    from fmu_src.make.native_build import NATIVE_DIR
+
+    libpython = Path(sysconfig.get_config_var("LIBDIR") or "") / str(
+        sysconfig.get_config_var("INSTSONAME") or "")
+    cc = shutil.which("cc") or shutil.which("gcc")
+    if cc is None or not libpython.is_file():
+        pytest.skip("needs a C compiler and a shared libpython")
+    exe = tmp_path / "host"
+    subprocess.run([cc, "-std=c99", "-O2", "-DHOST_LOGGING=fmi2True", "-I",
+                    str(NATIVE_DIR / "fmi2"), str(NATIVE_DIR / "host_example.c"), "-o",
+                    str(exe), "-ldl", "-lm"], check=True)
+    unz = tmp_path / "fmu"
+    zipfile.ZipFile(fmu).extractall(unz)
+    md = fmpy.read_model_description(str(fmu))
+    so = unz / "binaries" / "linux64" / f"{md.coSimulation.modelIdentifier}.so"
+    fake = tmp_path / "fake" / "numpy"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text("raise ImportError('no numpy here (test stand-in)')\n")
+    env = {**os.environ, "PYTHONPATH": str(fake.parent), "LD_PRELOAD": str(libpython)}
+    r = subprocess.run([str(exe), str(so), (unz / "resources").as_uri(), md.guid, "5", "1"],
+                       capture_output=True, text=True, env=env, timeout=120)
+    assert r.returncode == 3, (r.returncode, r.stderr[-2000:])   # instantiate refused
+    assert "needs numpy" in r.stderr and "--native" in r.stderr, r.stderr[-2000:]

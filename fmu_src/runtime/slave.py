@@ -58,24 +58,30 @@ from pythonfmu import (
 )
 from pythonfmu.enums import Fmi2Status
 
-from fmu_src.runtime import state as state_io
-from fmu_src.runtime.guard import InputGuard
-from fmu_src.runtime.interface import (
-    INPUTS,
-    LIMITS,
-    MODEL_NAME,
-    OUTPUTS,
-    STATUS_BITS,
-    TIRE_FIELDS,
-    Variable,
-    tire_from_parameters,
-    variables,
-)
-from lookup.grid.reader import FrictionGrid
-from tire_brush import ccore
-from tire_brush.friction import GridFriction
-from tire_brush.slip import BrushOutputs, slip_from_kinematics
-from tire_brush.transient import TransientBrushTire
+try:
+    from fmu_src.runtime import state as state_io
+    from fmu_src.runtime.guard import InputGuard
+    from fmu_src.runtime.interface import (
+        INPUTS,
+        LIMITS,
+        MODEL_NAME,
+        OUTPUTS,
+        STATUS_BITS,
+        TIRE_FIELDS,
+        Variable,
+        tire_from_parameters,
+        variables,
+    )
+    from lookup.grid.reader import FrictionGrid
+    from tire_brush import ccore
+    from tire_brush.friction import GridFriction
+    from tire_brush.slip import BrushOutputs, slip_from_kinematics
+    from tire_brush.transient import TransientBrushTire
+except ImportError as exc:      # numpy missing in the host's Python: say so at instantiation
+    _MISSING: ImportError | None = exc
+    OUTPUTS = ()
+else:
+    _MISSING = None
 
 #: Folder inside the FMU's resources with build.json and the grid.
 DATA_DIR = "tirefric-data"
@@ -118,6 +124,15 @@ class BrushTireSlave(Fmi2Slave):
     """
 
     def __init__(self, **kwargs: Any) -> None:
+        if _MISSING is not None:
+            import sys
+
+            raise RuntimeError(
+                f"the tirefric brush-tire FMU (pythonfmu flavour) runs in the host's Python "
+                f"and needs numpy there; this host's Python {sys.version.split()[0]} "
+                f"({sys.executable}) cannot import it ({_MISSING}). Install numpy >= 1.26 "
+                f"for that Python, or use the native FMU (tirefric fmu build --native), "
+                f"which needs no Python.")
         super().__init__(**kwargs)
         if self.resources is None:
             raise ValueError("BrushTireSlave needs its resources folder (resources=...)")

@@ -23,6 +23,11 @@
 
 #include "fmi2Functions.h"
 
+/* loggingOn of fmi2Instantiate (-DHOST_LOGGING=fmi2True to see every message) */
+#ifndef HOST_LOGGING
+#define HOST_LOGGING fmi2False
+#endif
+
 static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status,
                    fmi2String category, fmi2String message, ...) {
     (void)env;
@@ -63,7 +68,7 @@ int main(int argc, char **argv) {
         char name[32];
         snprintf(name, sizeof name, "tire%d", i);
         c[i] = fmi2Instantiate(name, fmi2CoSimulation, argv[3], argv[2], &cb, fmi2False,
-                               fmi2False);
+                               HOST_LOGGING);
         if (!c[i]) return 3;
         if (fmi2SetupExperiment(c[i], fmi2False, 0.0, 0.0, fmi2False, 0.0) != fmi2OK ||
             fmi2EnterInitializationMode(c[i]) != fmi2OK ||
