@@ -64,6 +64,14 @@ def test_ocp_reproduces_point_mass_bound(dry_map):
     assert not r.kappa_bound_active, "the slip bound must not be active at the optimum"
 
 
+def test_ocp_failure_reports_the_solver_status(dry_map):
+    """An OCP that cannot converge (two IPOPT iterations allowed) raises a ConvergenceError
+    that names IPOPT's status (the failure handler itself must not raise instead)."""
+    with pytest.raises(ConvergenceError, match="Maximum_Iterations_Exceeded"):
+        solve_braking_ocp(FAST, dry_map, V0, V_STOP, T_AMB,
+                          settings=OCPSettings(intervals=20, max_iter=2))
+
+
 def test_ordering_ocp_abs_locked(dry_map):
     """Same car, same force map: OCP < rule-based ABS < locked wheel."""
     fm = force_map(burckhardt_road("asphalt_wet"), REAL)

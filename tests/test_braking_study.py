@@ -148,3 +148,28 @@ def test_shipped_brush_study_runs(tmp_path):
         assert c["stopping_distance_ocp"] < c["stopping_distance_abs"], c["case"]
         assert c["stopping_distance_ocp"] < c["stopping_distance_locked"], c["case"]
         assert -1.0 < c["optimal_slip"] < 0.0, c["case"]
+
+
+def test_a_failed_case_is_reported_and_the_study_goes_on(tmp_path, monkeypatch, capsys):
+    """One of two cases fails (its run raises): the other is solved and written, the failure
+    is listed in results.json and results.csv with its message, and the command exits 1."""
+    from tire_brush.braking import study
+
+    real = study.run_case
+
+    def flaky(spec, case, fmu_simulator=None):
+        if case.label.startswith("snow"):
+            raise RuntimeError("solver exploded (test)")
+        return real(spec, case, fmu_simulator)
+
+    monkeypatch.setattr(study, "run_case", flaky)
+    spec = write_spec(tmp_path, roads='["snow", "asphalt_wet"]')
+    out = tmp_path / "out"
+    assert main(["abs", "study", str(spec), "-o", str(out), "--no-plots"]) == 1
+    doc = json.loads((out / "results.json").read_text())
+    assert [c["case"] for c in doc["cases"]] == ["asphalt_wet_20C"]
+    assert doc["failed"] == [{"case": "snow_20C", "error": "RuntimeError: solver exploded (test)"}]
+    text = (out / "results.csv").read_text()
+    assert "# case snow_20C FAILED: RuntimeError: solver exploded (test)" in text
+    assert "FAILED" in capsys.readouterr().err
+    assert (out / "trajectories" / "asphalt_wet_20C.csv").is_file()

@@ -177,7 +177,9 @@ def _study(out: Path, log: DemoLog) -> list[Path]:
     results = run_study(spec, progress=lambda s: log.echo(f"      {s}"),
                         simulator_factory=braking_simulator)
     doc = write_results(spec, results, out / "abs_study")
-    log.numbers["study"] = doc.get("cases", [r.summary for r in results])
+    log.numbers["study"] = doc.get("cases", [])
+    for f in doc.get("failed", []):
+        log.echo(f"      case {f['case']} FAILED: {f['error']}")
     plots = out / "abs_study" / "plots"
     return [p for p in (plots / "distances.png", *sorted(plots.glob("*20C*.png")))
             if p.is_file()]

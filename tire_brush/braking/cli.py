@@ -38,7 +38,7 @@ def register(sub: argparse._SubParsersAction, simulator_factory=None) -> None:
 def _run_study(args: argparse.Namespace) -> int:
     from lookup.cli import dump_json, print_table
 
-    from .study import load_study, run_study, write_results
+    from .study import CaseFailure, load_study, run_study, write_results
 
     spec = load_study(args.spec)
     progress = None if args.json else (lambda msg: print(f"# {msg}", file=sys.stderr))
@@ -56,5 +56,8 @@ def _run_study(args: argparse.Namespace) -> int:
         keys = SUMMARY_KEYS
         if spec.fmu_abs:
             keys = (*SUMMARY_KEYS[:3], "stopping_distance_abs_fmu", *SUMMARY_KEYS[3:])
-        print_table([r.summary for r in results], keys)
-    return 0
+        print_table([r.summary for r in results if not isinstance(r, CaseFailure)], keys)
+    failed = [r for r in results if isinstance(r, CaseFailure)]
+    for f in failed:
+        print(f"# case {f.case.label} FAILED: {f.error}", file=sys.stderr)
+    return 1 if failed else 0

@@ -344,9 +344,13 @@ def solve_braking_ocp(
     try:
         sol = opti.solve()
     except RuntimeError as exc:
-        stats = opti.stats()
-        raise ConvergenceError(f"braking OCP did not converge: {stats.get('return_status')} "
-                               f"after {stats.get('iter_count')} iterations") from exc
+        try:                                     # the stats can be missing after a failure
+            stats = opti.stats()
+        except Exception:  # never hide the solver's own error behind this one
+            stats = {}
+        raise ConvergenceError(f"braking OCP did not converge: "
+                               f"{stats.get('return_status', 'no status')} after "
+                               f"{stats.get('iter_count', '?')} iterations ({exc})") from exc
     solve_time = time.perf_counter() - t0
     stats = sol.stats()
     Xv = np.asarray(sol.value(X)).reshape(nx, N + 1)

@@ -337,6 +337,24 @@ class CaseResult:
     abs_fmu: Any = None
 
 
+@dataclass
+class CaseFailure:
+    """A case that failed: its error, reported while the study goes on (the other cases'
+    results are still written; ``results.json`` lists the failures under ``failed``)."""
+
+    case: Case
+    error: str
+
+
+def run_case_or_failure(spec: StudySpec, case: Case,
+                        fmu_simulator: Any = None) -> CaseResult | CaseFailure:
+    """:func:`run_case`, or the :class:`CaseFailure` that says why it failed."""
+    try:
+        return run_case(spec, case, fmu_simulator)
+    except Exception as exc:  # one case must not end the study
+        return CaseFailure(case=case, error=f"{type(exc).__name__}: {exc}")
+
+
 def case_temperatures(spec: StudySpec, case: Case, temperature_dependent: bool = True
                       ) -> np.ndarray:
     """Temperature nodes of the force map of ``case`` [K].
@@ -566,8 +584,11 @@ def fmu_simulators(spec: StudySpec, work_dir: str | Path,
 
 def run_study(spec: StudySpec, scheduler: str | None = None, progress=None,
               work_dir: str | Path | None = None,
-              simulator_factory: Any = None) -> list[CaseResult]:
+              simulator_factory: Any = None) -> list[CaseResult | CaseFailure]:
     """Run every case, locally in order or as Dask tasks on ``scheduler`` (an address).
+
+    A case that fails is returned as a :class:`CaseFailure` (with ``progress``, reported at
+    once) and the study goes on.
 
     ``simulator_factory`` builds the FMU simulators of a study with ``[study] fmu_abs``
     (:func:`fmu_simulators`; ``tirefric abs`` and the demo hand in
@@ -595,12 +616,16 @@ def run_study(spec: StudySpec, scheduler: str | None = None, progress=None,
         for case in spec.cases:
             if progress is not None:
                 progress(f"case {case.label}")
-            out.append(run_case(spec, case, sims.get(case.label)))
+            r = run_case_or_failure(spec, case, sims.get(case.label))
+            if isinstance(r, CaseFailure) and progress is not None:
+                progress(f"case {case.label} FAILED: {r.error}")
+            out.append(r)
         return out
     from dask.distributed import Client
 
     with Client(scheduler) as client:
-        futures = [client.submit(run_case, spec, case, sims.get(case.label), pure=False)
+        futures = [client.submit(run_case_or_failure, spec, case, sims.get(case.label),
+                                 pure=False)
                    for case in spec.cases]
         return client.gather(futures)
 
@@ -617,12 +642,17 @@ def _trajectory_rows(name: str, r: OCPResult | SimResult, stride: int = 1):
                r.mu[i], r.T_tread[i], "" if phase is None else PHASES[int(phase[i])])
 
 
-def write_results(spec: StudySpec, results: list[CaseResult], out_dir: str | Path, *,
-                  plots: bool = True, spec_path: str | Path | None = None) -> dict[str, Any]:
+def write_results(spec: StudySpec, results: list[CaseResult | CaseFailure],
+                  out_dir: str | Path, *, plots: bool = True,
+                  spec_path: str | Path | None = None) -> dict[str, Any]:
     """Write ``results.csv``, ``results.json``, trajectories, slip maps and plots to ``out_dir``.
 
-    Returns the JSON document.
+    Failed cases (:class:`CaseFailure`) are listed in ``results.json`` (``failed``) and as
+    comment lines of ``results.csv``; the other cases are written as usual. Returns the JSON
+    document.
     """
+    failed = [r for r in results if isinstance(r, CaseFailure)]
+    results = [r for r in results if not isinstance(r, CaseFailure)]
     out = Path(out_dir)
     (out / "trajectories").mkdir(parents=True, exist_ok=True)
     (out / "slip_maps").mkdir(parents=True, exist_ok=True)
@@ -631,6 +661,8 @@ def write_results(spec: StudySpec, results: list[CaseResult], out_dir: str | Pat
         fh.write(f"# braking study {spec.name}: v0 = {spec.v0:g} m/s, v_stop = "
                  f"{spec.v_stop:g} m/s; distances [m] from v0 to v_stop, slips [1] "
                  "(negative in braking), times [s], temperatures T_C [Celsius]\n")
+        for f in failed:
+            fh.write(f"# case {f.case.label} FAILED: {f.error}\n")
         w = csv.writer(fh)
         w.writerow(RESULT_KEYS)
         for row in rows:
@@ -671,6 +703,7 @@ def write_results(spec: StudySpec, results: list[CaseResult], out_dir: str | Pat
                        ocp_trajectory={"t": r.ocp.t.tolist(), "kappa": r.ocp.kappa.tolist(),
                                        "v": r.ocp.v.tolist()})
                   for r in results],
+        "failed": [{"case": f.case.label, "error": f.error} for f in failed],
     }
     with open(out / "results.json", "w") as fh:
         json.dump(_jsonable(doc), fh, indent=2)
@@ -681,7 +714,8 @@ def write_results(spec: StudySpec, results: list[CaseResult], out_dir: str | Pat
         for r in results:
             plotting.plot_time_histories(r, out / "plots" / f"{r.case.label}_time.png")
             plotting.plot_mu_slip(r, out / "plots" / f"{r.case.label}_mu_slip.png")
-        plotting.plot_distances(results, out / "plots" / "distances.png")
+        if results:
+            plotting.plot_distances(results, out / "plots" / "distances.png")
     return doc
 
 
