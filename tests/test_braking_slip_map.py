@@ -49,3 +49,33 @@ def test_slip_map_on_force_map_and_csv(tmp_path):
     np.testing.assert_allclose(cols["kappa_opt"], sm.kappa_opt.ravel(), rtol=1e-9,
                                err_msg="CSV round trip")
     assert sm.interpolate(10.0, 4000.0, 293.0) == pytest.approx(sm.kappa_opt.mean(), abs=1e-9)
+
+
+def test_peak_width_and_stable_branch_against_the_burckhardt_curve(tmp_path):
+    """The slips where the braking friction falls to 95 % of its peak, found independently by
+    bisection on the closed-form Burckhardt curve (to 1e-10), and the map's bounds from its
+    801-point scan (linear between points: 1e-4 in slip, an eighth of the spacing 1.25e-3 on
+    this gently curved peak); the stable branch is the closed-form curve on [kappa_opt, 0]
+    and rises monotonically to the peak; the JSON export carries all of it."""
+    import json
+
+    from scipy.optimize import brentq
+
+    curve = burckhardt_road("asphalt_dry")
+    sm = optimal_slip(curve, [10.0], [4000.0], [293.0], label="Burckhardt dry")
+    s_opt, mu_pk = curve.peak_slip(), curve.peak_mu()
+    f = lambda s: -float(curve(-s, 10.0)) - 0.95 * mu_pk  # noqa: E731
+    s_lo = brentq(f, 1e-9, s_opt, xtol=1e-12)
+    s_hi = brentq(f, s_opt, 1.0, xtol=1e-12) if f(1.0) < 0 else 1.0
+    kp = sm.kappa_peak[0, 0, 0]
+    assert kp[0] == pytest.approx(-s_lo, abs=1e-4) and kp[1] == pytest.approx(-s_hi, abs=1e-4)
+    assert sm.peak_width[0, 0, 0] == pytest.approx(s_hi - s_lo, abs=2e-4)
+    branch = sm.stable_mu[0, 0, 0]
+    kk = sm.kappa_opt[0, 0, 0] * np.linspace(0.0, 1.0, branch.size)
+    np.testing.assert_allclose(branch, -curve(kk, 10.0), rtol=1e-12)
+    assert np.all(np.diff(branch) > 0), "the stable branch rises to the peak"
+    doc = json.loads(sm.to_json(tmp_path / "slip.json").read_text())
+    pt = doc["points"][0]
+    assert pt["peak_width"] == pytest.approx(s_hi - s_lo, abs=2e-4)
+    assert len(pt["stable_branch"]["kappa"]) == branch.size
+    assert min(pt["stable_branch"]["kappa"]) == pytest.approx(sm.kappa_opt[0, 0, 0])

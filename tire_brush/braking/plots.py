@@ -23,9 +23,10 @@ def _runs(r: CaseResult):
 
 
 def plot_time_histories(r: CaseResult, path: str | Path) -> Path:
-    """Speed, slip, mu and brake torque vs time for the three strategies of one case."""
-    fig = Figure(figsize=(8, 9), layout="constrained")
-    ax = fig.subplots(4, 1, sharex=True)
+    """Speed, slip, mu, brake torque and tread temperature vs time for the strategies of one
+    case."""
+    fig = Figure(figsize=(8, 11), layout="constrained")
+    ax = fig.subplots(5, 1, sharex=True)
     R = r.summary["radius_m"]
     for name, res in _runs(r):
         lab, col = STYLE[name]
@@ -35,13 +36,16 @@ def plot_time_histories(r: CaseResult, path: str | Path) -> Path:
         ax[2].plot(res.t, -res.mu, color=col, lw=1.0 if name != "ocp" else 1.8, label=lab)
         ax[3].plot(res.t, res.brake_torque, color=col, lw=1.0 if name != "ocp" else 1.8,
                    label=lab)
+        ax[4].plot(res.t, np.asarray(res.T_tread) - 273.15, color=col,
+                   lw=1.0 if name != "ocp" else 1.8, label=lab)
     ax[1].axhline(-r.summary["optimal_slip"], color="k", ls="--", lw=0.8,
                   label="slip of max force at v0")
     ax[0].set_ylabel("v, omega R (dotted) [m/s]")
     ax[1].set_ylabel("braking slip -kappa [1]")
     ax[2].set_ylabel("braking friction -Fx/Fz [1]")
     ax[3].set_ylabel("brake torque [N m]")
-    ax[3].set_xlabel("time t [s]")
+    ax[4].set_ylabel("tread temperature [C]")
+    ax[4].set_xlabel("time t [s]")
     ax[1].set_ylim(0, 1.05)
     ax[0].legend(fontsize=8)
     ax[1].legend(fontsize=8)

@@ -21,7 +21,12 @@ from lookup.errors import InputError
 from .force_map import FxOverFz
 
 #: CSV header of a slip map (units in brackets, as ``lookup.config.read_csv_table`` reads them).
-CSV_COLUMNS = ("vx [m/s]", "Fz [N]", "T [K]", "kappa_opt [1]", "mu_max [1]", "mu_locked [1]")
+CSV_COLUMNS = ("vx [m/s]", "Fz [N]", "T [K]", "kappa_opt [1]", "mu_max [1]", "mu_locked [1]",
+               "kappa_peak_stable [1]", "kappa_peak_unstable [1]", "peak_width [1]")
+#: Fraction of the peak friction that bounds the peak's width (:attr:`SlipMap.peak_width`).
+PEAK_FRACTION = 0.95
+#: Points of the stable branch ``kappa in [kappa_opt, 0]`` in the exported maps.
+N_STABLE = 21
 
 
 @dataclass(frozen=True)
@@ -40,6 +45,16 @@ class SlipMap:
         Locked-wheel friction ``-Fx/Fz`` at ``kappa = -1`` [1].
     label : str
         Provenance of the friction source.
+    kappa_peak : numpy.ndarray or None
+        Slips where the braking friction falls to :data:`PEAK_FRACTION` of its peak, on the
+        stable side (between ``kappa_opt`` and 0) and on the unstable side (towards -1), shape
+        ``(..., 2)``; the peak's width is their difference (:attr:`peak_width`). An ABS that
+        holds the slip inside keeps 95 % of the peak force; a wide peak forgives estimation
+        errors of the slip.
+    stable_mu : numpy.ndarray or None
+        Braking friction ``-Fx/Fz`` on the stable branch at ``kappa = kappa_opt * s`` for
+        ``s`` in ``linspace(0, 1, N_STABLE)``, shape ``(..., N_STABLE)``: the part of the
+        curve a braked wheel can hold (beyond the peak the wheel decelerates into lock).
     """
 
     vx: np.ndarray
@@ -49,6 +64,15 @@ class SlipMap:
     mu_max: np.ndarray
     mu_locked: np.ndarray
     label: str = ""
+    kappa_peak: np.ndarray | None = None
+    stable_mu: np.ndarray | None = None
+
+    @property
+    def peak_width(self) -> np.ndarray:
+        """Width in slip of the peak at :data:`PEAK_FRACTION` of the peak friction [1]."""
+        if self.kappa_peak is None:
+            return np.full(self.kappa_opt.shape, np.nan)
+        return self.kappa_peak[..., 0] - self.kappa_peak[..., 1]
 
     def interpolate(self, vx, Fz, T_K) -> np.ndarray:
         """Optimal slip at an operating point: multilinear in the axes, clamped at their ends.
@@ -71,14 +95,51 @@ class SlipMap:
         return RegularGridInterpolator(axes, values)(pts)
 
     def rows(self) -> list[tuple[float, ...]]:
-        """Table rows ``(vx, Fz, T, kappa_opt, mu_max, mu_locked)``, speed fastest varying last."""
+        """Table rows in :data:`CSV_COLUMNS` order, temperature fastest varying."""
         out = []
+        width = self.peak_width
+        kp = (np.full((*self.kappa_opt.shape, 2), np.nan) if self.kappa_peak is None
+              else self.kappa_peak)
         for i, v in enumerate(self.vx):
             for j, f in enumerate(self.Fz):
                 for k, T in enumerate(self.T_K):
                     out.append((float(v), float(f), float(T), float(self.kappa_opt[i, j, k]),
-                                float(self.mu_max[i, j, k]), float(self.mu_locked[i, j, k])))
+                                float(self.mu_max[i, j, k]), float(self.mu_locked[i, j, k]),
+                                float(kp[i, j, k, 0]), float(kp[i, j, k, 1]),
+                                float(width[i, j, k])))
         return out
+
+    def to_json(self, path: str | Path) -> Path:
+        """Write the map as JSON: axes, optimum, peak bounds and width, and the stable branch
+        of the friction curve per operating point (units in the keys)."""
+        import json
+
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        points = []
+        for idx in np.ndindex(self.kappa_opt.shape):
+            i, j, k = idx
+            kopt = float(self.kappa_opt[idx])
+            pt = {"vx_m_per_s": float(self.vx[i]), "Fz_N": float(self.Fz[j]),
+                  "T_K": float(self.T_K[k]), "kappa_opt": kopt,
+                  "mu_max": float(self.mu_max[idx]), "mu_locked": float(self.mu_locked[idx])}
+            if self.kappa_peak is not None:
+                pt.update(kappa_peak_stable=float(self.kappa_peak[(*idx, 0)]),
+                          kappa_peak_unstable=float(self.kappa_peak[(*idx, 1)]),
+                          peak_width=float(self.peak_width[idx]))
+            if self.stable_mu is not None:
+                s = np.linspace(0.0, 1.0, self.stable_mu.shape[-1])
+                pt["stable_branch"] = {"kappa": (kopt * s).tolist(),
+                                       "mu": self.stable_mu[idx].tolist()}
+            points.append(pt)
+        doc = {"description": "optimal braking slip map: slip of maximum braking force, the "
+                              f"slips where the force falls to {PEAK_FRACTION:g} of its peak "
+                              "and the stable branch kappa in [kappa_opt, 0] of -Fx/Fz; "
+                              "kappa < 0 in braking",
+               "friction_source": self.label, "peak_fraction": PEAK_FRACTION,
+               "points": points}
+        path.write_text(json.dumps(doc, indent=1, allow_nan=False))
+        return path
 
     def to_csv(self, path: str | Path) -> Path:
         """Write the map as CSV with units in the header and a provenance comment."""
@@ -160,5 +221,27 @@ def optimal_slip(
         mu_min[idx] = best_mu
     Kl, Vl, Fl, Tl = np.meshgrid(np.array([-1.0]), *axes, indexing="ij")
     mu_locked = -np.asarray(fx_over_fz(Kl, Vl, Fl, Tl), dtype=float)[0]
+    # the peak's bounds at PEAK_FRACTION of the peak, from the scan (linear between points)
+    kappa_peak = np.empty((*shape, 2))
+    for idx in np.ndindex(shape):
+        braking = -mu[(slice(None), *idx)]
+        level = PEAK_FRACTION * -mu_min[idx]
+        i = int(i_best[idx])
+        bounds = []
+        for step, end in ((1, n_scan - 1), (-1, 0)):          # stable side first (k -> 0)
+            j = i
+            while j != end and braking[j + step] >= level:
+                j += step
+            if j == end:
+                bounds.append(float(k[end]))
+            else:                                          # crossing between j and j + step
+                a, b = braking[j], braking[j + step]
+                bounds.append(float(k[j] + (k[j + step] - k[j]) * (a - level) / (a - b)))
+        kappa_peak[idx] = bounds
+    s = np.linspace(0.0, 1.0, N_STABLE)
+    Ks = kappa_opt[None, ...] * s.reshape(-1, 1, 1, 1)
+    Vs, Fs, Ts = np.meshgrid(*axes, indexing="ij")
+    stable_mu = -np.asarray(fx_over_fz(Ks, Vs[None], Fs[None], Ts[None]), dtype=float)
     return SlipMap(vx=axes[0], Fz=axes[1], T_K=axes[2], kappa_opt=kappa_opt, mu_max=-mu_min,
-                   mu_locked=mu_locked, label=label)
+                   mu_locked=mu_locked, label=label, kappa_peak=kappa_peak,
+                   stable_mu=np.moveaxis(stable_mu, 0, -1))

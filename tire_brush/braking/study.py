@@ -684,6 +684,7 @@ def write_results(spec: StudySpec, results: list[CaseResult | CaseFailure],
                 for row in _trajectory_rows(name, res, s):
                     w.writerow([row[0], *(f"{x:.8g}" for x in row[1:9]), row[9]])
         r.slip_map.to_csv(out / "slip_maps" / f"{r.case.label}.csv")
+        r.slip_map.to_json(out / "slip_maps" / f"{r.case.label}.json")
     doc = {
         "study": spec.name,
         "spec": None if spec_path is None else str(spec_path),
