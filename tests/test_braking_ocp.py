@@ -163,3 +163,49 @@ def test_ocp_thermal_state_energy_balance():
     # 2 %: trapezoidal quadrature of the power on the interval boundaries
     assert r.T_tread[-1] - T_AMB == pytest.approx(heat, rel=0.02), "tread energy balance"
     assert r.T_tread[-1] > T_AMB + 1.0, "the tread warms during the stop"
+
+
+@pytest.mark.parametrize("curve", [burckhardt_road("asphalt_dry"), burckhardt_road("asphalt_wet"),
+                                   magic_formula_road("asphalt_dry")],
+                         ids=["burckhardt-dry", "burckhardt-wet", "mf-dry"])
+def test_realistic_abs_cycles_at_4_to_10_hz_between_the_bounds(curve):
+    """The ABS with estimated speed, valve pulses and a 10 ms hydraulic delay on asphalt:
+    cycles at 4-10 Hz (production ABS on asphalt), stops between the point-mass bound and
+    the locked wheel, and at most 10 % behind the idealised ABS (which knows the speed and
+    acts at once); its reference speed never exceeds the car's by more than one control
+    period of the car's deceleration (it follows the wheel, never overtakes the car)."""
+    from tire_brush.braking import RealisticABS
+    from tire_brush.braking.study import abs_cycle_frequency
+
+    fm = force_map(curve, REAL)
+    bound = point_mass_stopping_distance(V0, curve.peak_mu(), V_STOP, REAL.g)
+    ideal = simulate_braking(REAL, fm, RuleBasedABS(ABSParams(), REAL.radius,
+                                                     REAL.brake_torque_rate_max),
+                             V0, V_STOP, T_AMB)
+    ctl = RealisticABS(ABSParams(), REAL.radius, REAL.brake_torque_rate_max, REAL.mass)
+    over = []
+    original = ctl.torque_rate
+
+    def spy(t, v, omega, brake_torque):
+        u = original(t, v, omega, brake_torque)
+        over.append(ctl.reference_speed - v)
+        return u
+
+    ctl.torque_rate = spy
+    real = simulate_braking(REAL, fm, ctl, V0, V_STOP, T_AMB)
+    locked = simulate_braking(REAL, fm, LockedWheel(REAL.brake_torque_rate_max), V0, V_STOP,
+                              T_AMB)
+    assert bound < real.stopping_distance < locked.stopping_distance
+    assert real.stopping_distance < 1.10 * ideal.stopping_distance, (
+        f"realistic {real.stopping_distance:.2f} m vs idealised {ideal.stopping_distance:.2f} m")
+    assert 4.0 <= abs_cycle_frequency(real) <= 10.0, abs_cycle_frequency(real)
+    assert max(over) < curve.peak_mu() * REAL.g * ABSParams().control_period + 1e-9
+
+
+def test_realistic_abs_hydraulics_refuse_bad_values():
+    from lookup.errors import InputError
+    from tire_brush.braking import HydraulicsParams
+
+    for bad in ({"delay": -0.01}, {"release_factor": 0.5}, {"reference_decel": 0.0}):
+        with pytest.raises(InputError, match="hydraulics"):
+            HydraulicsParams(**bad)

@@ -14,7 +14,14 @@ Modules (imports stay lazy for scipy/casadi/matplotlib where they are heavy):
 - :mod:`.study`, :mod:`.cli`: study runner and ``tirefric abs study``.
 """
 
-from .abs_control import ABSParams, LockedWheel, RuleBasedABS, TorqueRamp
+from .abs_control import (
+    ABSParams,
+    HydraulicsParams,
+    LockedWheel,
+    RealisticABS,
+    RuleBasedABS,
+    TorqueRamp,
+)
 from .force_map import ForceMap, default_axes
 from .friction import Case, FrictionSource, make_friction_source, register_friction_source
 from .ocp import OCPResult, OCPSettings, solve_braking_ocp
@@ -29,8 +36,9 @@ from .simulation import SimResult, SimSettings, simulate_braking
 from .slip_map import SlipMap, optimal_slip
 
 __all__ = [
-    "ABSParams", "Burckhardt", "Case", "ForceMap", "FrictionSource", "LockedWheel",
-    "MagicFormula", "OCPResult", "OCPSettings", "QuarterCar", "RuleBasedABS", "SimResult",
+    "ABSParams", "Burckhardt", "Case", "ForceMap", "FrictionSource", "HydraulicsParams",
+    "LockedWheel", "MagicFormula", "OCPResult", "OCPSettings", "QuarterCar", "RealisticABS",
+    "RuleBasedABS", "SimResult",
     "SimSettings", "SlipMap", "ThermalParams", "TorqueRamp", "default_axes",
     "load_quarter_car", "make_friction_source", "optimal_slip",
     "point_mass_stopping_distance", "register_friction_source", "simulate_braking",

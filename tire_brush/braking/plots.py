@@ -12,13 +12,16 @@ if TYPE_CHECKING:
     from .study import CaseResult
 
 STYLE = {"ocp": ("OCP (optimal)", "C0"), "abs": ("rule-based ABS", "C1"),
-         "locked": ("locked wheel", "C3"), "abs_fmu": ("rule-based ABS through the FMU", "C2")}
+         "locked": ("locked wheel", "C3"), "abs_fmu": ("rule-based ABS through the FMU", "C2"),
+         "abs_realistic": ("ABS with estimated speed and hydraulics", "C4")}
 
 
 def _runs(r: CaseResult):
     runs = [("ocp", r.ocp), ("abs", r.abs_sim), ("locked", r.locked)]
     if r.abs_fmu is not None:
         runs.append(("abs_fmu", r.abs_fmu))
+    if getattr(r, "abs_realistic", None) is not None:
+        runs.append(("abs_realistic", r.abs_realistic))
     return tuple(runs)
 
 
@@ -73,9 +76,9 @@ def plot_mu_slip(r: CaseResult, path: str | Path) -> Path:
     # locked first, OCP last: the optimal operating points stay visible on top
     for name, res in reversed(_runs(r)):
         lab, col = STYLE[name]
-        ms = {"ocp": 7, "abs": 4, "locked": 9, "abs_fmu": 3}[name]
+        ms = {"ocp": 7, "abs": 4, "locked": 9, "abs_fmu": 3, "abs_realistic": 3}[name]
         ax.plot(-res.kappa, -res.mu, "o", ms=ms, mfc="none" if name != "ocp" else col,
-                mec=col, alpha=0.6 if name in ("abs", "abs_fmu") else 0.9,
+                mec=col, alpha=0.6 if name in ("abs", "abs_fmu", "abs_realistic") else 0.9,
                 label=f"{lab} operating points")
     ax.axvline(-s["optimal_slip"], color="k", ls="--", lw=0.8,
                label=f"slip of max force at v0: {-s['optimal_slip']:.3f}")
@@ -98,6 +101,8 @@ def plot_distances(results: list[CaseResult], path: str | Path) -> Path:
             ("locked", "stopping_distance_locked")]
     if any(r.abs_fmu is not None for r in results):
         bars.insert(2, ("abs_fmu", "stopping_distance_abs_fmu"))
+    if all("stopping_distance_abs_realistic" in r.summary for r in results):
+        bars.insert(2, ("abs_realistic", "stopping_distance_abs_realistic"))
     fig = Figure(figsize=(max(6, 1.8 * len(results) + 2), 4.5), layout="constrained")
     ax = fig.subplots()
     w = 0.8 / len(bars)

@@ -46,7 +46,15 @@ from lookup.config import Table
 from lookup.errors import InputError, InputErrors
 from lookup.paths import resolve_model_file
 
-from .abs_control import PHASES, ABSParams, LockedWheel, RuleBasedABS
+from .abs_control import (
+    HOLD_RECOVER,
+    PHASES,
+    REAPPLY,
+    ABSParams,
+    LockedWheel,
+    RealisticABS,
+    RuleBasedABS,
+)
 from .force_map import ForceMap, default_axes
 from .friction import FRICTION_KEYS, FRICTION_SOURCES, Case, make_friction_source
 from .ocp import OCPResult, OCPSettings, solve_braking_ocp
@@ -66,6 +74,8 @@ RESULT_KEYS = (
     "point_mass_bound_reachable",
     "mu_max_reachable", "T_tread_rise_bound_K", "T_tread_max_abs_K", "T_tread_max_locked_K",
     "T_tread_max_abs_fmu_K", "abs_mean_slip", "abs_fmu_mean_slip",
+    "stopping_distance_abs_realistic", "stop_time_abs_realistic", "abs_realistic_cycle_hz",
+    "abs_cycle_hz", "T_tread_max_abs_realistic_K",
 )
 
 #: Initial guesses the OCP can start from (``[ocp] starts``, :func:`solve_ocp_from_starts`).
@@ -335,6 +345,7 @@ class CaseResult:
     force_map: ForceMap
     provenance: dict[str, Any]
     abs_fmu: Any = None
+    abs_realistic: Any = None
 
 
 @dataclass
@@ -344,6 +355,15 @@ class CaseFailure:
 
     case: Case
     error: str
+
+
+def abs_cycle_frequency(sim: SimResult) -> float:
+    """ABS control cycles per second of a simulated stop [Hz]: completed recoveries (a
+    ``hold_recover`` phase followed by the re-apply) over the stop time (production ABS
+    cycle at 4-10 Hz on asphalt)."""
+    ph = np.asarray(sim.phase)
+    n = int(np.sum((ph[:-1] == HOLD_RECOVER) & (ph[1:] == REAPPLY)))
+    return n / sim.stop_time if sim.stop_time > 0 else math.nan
 
 
 def run_case_or_failure(spec: StudySpec, case: Case,
@@ -511,6 +531,12 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
     abs_sim = simulate_braking(car, fmap, abs_controller(), spec.v0, spec.v_stop, case.T_K,
                                settings=spec.simulation,
                                brake_torque_initial=spec.brake_torque_initial)
+    abs_real = simulate_braking(car, fmap,
+                                RealisticABS(spec.abs_params, car.radius,
+                                             car.brake_torque_rate_max, car.mass,
+                                             slip_schedule=schedule),
+                                spec.v0, spec.v_stop, case.T_K, settings=spec.simulation,
+                                brake_torque_initial=spec.brake_torque_initial)
     abs_fmu = None
     if fmu_simulator is not None:
         abs_fmu = fmu_simulator(car, abs_controller(), spec.v0, spec.v_stop, case.T_K,
@@ -543,6 +569,11 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
         "T_tread_max_abs_fmu_K": nan if abs_fmu is None else float(np.max(abs_fmu.T_tread)),
         "abs_mean_slip": _mean_slip(abs_sim),
         "abs_fmu_mean_slip": nan if abs_fmu is None else _mean_slip(abs_fmu),
+        "stopping_distance_abs_realistic": abs_real.stopping_distance,
+        "stop_time_abs_realistic": abs_real.stop_time,
+        "abs_realistic_cycle_hz": abs_cycle_frequency(abs_real),
+        "abs_cycle_hz": abs_cycle_frequency(abs_sim),
+        "T_tread_max_abs_realistic_K": float(np.max(abs_real.T_tread)),
         "Fz_N": car.Fz, "radius_m": car.radius,
     }
     provenance = {"friction": prov, "friction_label": label, "ocp_status": ocp.status,
@@ -556,7 +587,8 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
         provenance["abs_fmu"] = {"simulator": getattr(fmu_simulator, "label", ""),
                                  **getattr(abs_fmu, "fmu", {})}
     return CaseResult(case=case, summary=summary, ocp=ocp, abs_sim=abs_sim, locked=locked,
-                      slip_map=sm, force_map=fmap, provenance=provenance, abs_fmu=abs_fmu)
+                      slip_map=sm, force_map=fmap, provenance=provenance, abs_fmu=abs_fmu,
+                      abs_realistic=abs_real)
 
 
 def fmu_simulators(spec: StudySpec, work_dir: str | Path,
@@ -671,13 +703,16 @@ def write_results(spec: StudySpec, results: list[CaseResult | CaseFailure],
     for r in results:
         with open(out / "trajectories" / f"{r.case.label}.csv", "w", newline="") as fh:
             fh.write("# strategy: ocp (optimal control, interval boundaries), abs (rule-based), "
-                     "locked (no ABS), abs_fmu (rule-based ABS through the FMU)\n")
+                     "locked (no ABS), abs_fmu (rule-based ABS through the FMU), "
+                     "abs_realistic (estimated speed, valve pulses, hydraulic delay)\n")
             w = csv.writer(fh)
             w.writerow(["strategy", "t [s]", "x [m]", "v [m/s]", "omega [rad/s]",
                         "brake_torque [N m]", "kappa [1]", "mu [1]", "T_tread [K]", "phase"])
             stride = max(1, round(0.001 / r.abs_sim.dt))      # 1 ms in the simulations
             runs = [("ocp", r.ocp, 1), ("abs", r.abs_sim, stride),
                     ("locked", r.locked, stride)]
+            if r.abs_realistic is not None:
+                runs.append(("abs_realistic", r.abs_realistic, stride))
             if r.abs_fmu is not None:
                 runs.append(("abs_fmu", r.abs_fmu, max(1, round(0.001 / r.abs_fmu.dt))))
             for name, res, s in runs:
