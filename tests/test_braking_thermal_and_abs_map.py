@@ -132,7 +132,7 @@ def test_ocp_from_the_locked_start_finds_the_same_optimum_on_a_fixed_curve(tmp_p
 def test_spec_reads_the_new_keys_and_refuses_misuse(tmp_path):
     spec = load_study("abs_default")
     assert spec.abs_slip_from_map and spec.fmu_abs and spec.ocp_starts == ("deceleration",
-                                                                            "locked")
+                                                                            "locked", "abs")
     assert "dt_internal" not in spec.fmu, "the FMU runs at its own (converged) defaults"
     assert spec.fmu["step"] == pytest.approx(1e-3)
     text = (models_dir() / "studies" / "abs_analytic.toml").read_text().replace(
@@ -164,3 +164,16 @@ def test_steady_cells_do_not_change_the_force():
     F = [float(SteadyBrush(tire, grid, n_elements=m).solve(-0.2, 0.0, 4.0, 4400.0, 293.15).Fx)
          for m in (n, 1024)]
     assert F[0] == pytest.approx(F[1], rel=2e-3), f"{n} cells vs 1024: {F}"
+
+
+def test_ocp_optimality_check_names_what_beats_it():
+    """The optimality report: verified when the OCP is no longer than any simulated strategy
+    and not below the bound (slack 0.2 %); otherwise the strategy and the numbers."""
+    from tire_brush.braking.study import ocp_optimality
+
+    assert ocp_optimality(40.0, 39.0, {"abs": 41.0, "locked": 50.0}) == "verified"
+    assert ocp_optimality(40.0, 39.0, {"abs": 40.05}) == "verified", "inside the slack"
+    msg = ocp_optimality(49.43, 47.0, {"abs": 48.58, "locked": 49.5})
+    assert msg.startswith("not proven") and "abs stops in 48.580 m" in msg
+    assert "locked" not in msg
+    assert "below the point-mass bound" in ocp_optimality(30.0, 33.0, {"abs": 35.0})

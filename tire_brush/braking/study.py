@@ -75,11 +75,11 @@ RESULT_KEYS = (
     "mu_max_reachable", "T_tread_rise_bound_K", "T_tread_max_abs_K", "T_tread_max_locked_K",
     "T_tread_max_abs_fmu_K", "abs_mean_slip", "abs_fmu_mean_slip",
     "stopping_distance_abs_realistic", "stop_time_abs_realistic", "abs_realistic_cycle_hz",
-    "abs_cycle_hz", "T_tread_max_abs_realistic_K",
+    "abs_cycle_hz", "T_tread_max_abs_realistic_K", "ocp_optimality",
 )
 
 #: Initial guesses the OCP can start from (``[ocp] starts``, :func:`solve_ocp_from_starts`).
-OCP_STARTS = ("deceleration", "locked")
+OCP_STARTS = ("deceleration", "locked", "abs")
 
 
 
@@ -357,6 +357,30 @@ class CaseFailure:
     error: str
 
 
+#: Relative slack of the optimality checks (:func:`ocp_optimality`): the OCP's transcription
+#: error at 200 intervals and the simulations' step error are below it.
+OPTIMALITY_SLACK = 2e-3
+
+
+def ocp_optimality(distance: float, bound: float, simulated: dict[str, float]) -> str:
+    """Whether the OCP's stop is shown optimal by the checks that are at hand.
+
+    "verified" when it is no longer than every simulated strategy and no shorter than the
+    point-mass bound (each within :data:`OPTIMALITY_SLACK`); otherwise the reason, with the
+    numbers: a simulated strategy that stops shorter proves that IPOPT found a local optimum
+    only (start it from that strategy: ``[ocp] starts``); a stop below the bound is an error
+    of the transcription.
+    """
+    why = []
+    for name, d in sorted(simulated.items(), key=lambda kv: kv[1]):
+        if d < distance * (1.0 - OPTIMALITY_SLACK):
+            why.append(f"{name} stops in {d:.3f} m, shorter than the OCP's {distance:.3f} m: "
+                       "a local optimum")
+    if distance < bound * (1.0 - OPTIMALITY_SLACK):
+        why.append(f"the OCP's {distance:.3f} m is below the point-mass bound {bound:.3f} m")
+    return "verified" if not why else "not proven: " + "; ".join(why)
+
+
 def abs_cycle_frequency(sim: SimResult) -> float:
     """ABS control cycles per second of a simulated stop [Hz]: completed recoveries (a
     ``hold_recover`` phase followed by the re-apply) over the stop time (production ABS
@@ -442,7 +466,8 @@ def abs_slip_schedule(slip_map_v: SlipMap) -> tuple[tuple[float, ...], tuple[flo
     return speeds, slips
 
 
-def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: SimResult
+def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: SimResult,
+                          abs_sim: SimResult | None = None
                           ) -> tuple[OCPResult, str, dict[str, Any]]:
     """The OCP from each of ``spec.ocp_starts``; the shortest converged stop is kept.
 
@@ -456,6 +481,9 @@ def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: S
     ``locked``
         The locked-wheel simulation of the case, over the full slip range ``[-1, 0]``: a
         feasible point on the sliding side from which IPOPT improves.
+    ``abs``
+        The rule-based ABS simulation of the case (``abs_sim``), over the full slip range:
+        a feasible point near the peak slip, on the other side of the sliding optimum.
 
     Returns the best result, its start and per start the distance or the failure.
     """
@@ -467,11 +495,15 @@ def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: S
     tried: dict[str, Any] = {}
     for start in spec.ocp_starts:
         try:
-            if start == "locked":
+            if start in ("locked", "abs"):
+                guess = locked if start == "locked" else abs_sim
+                if guess is None:
+                    tried[start] = {"failed": "no simulation to start from"}
+                    continue
                 res = solve_braking_ocp(spec.car, fmap, spec.v0, spec.v_stop, case.T_K,
                                         settings=replace(spec.ocp, kappa_min=-1.0),
                                         brake_torque_initial=spec.brake_torque_initial,
-                                        initial_guess=locked)
+                                        initial_guess=guess)
             else:
                 res = solve_braking_ocp(spec.car, fmap, spec.v0, spec.v_stop, case.T_K,
                                         settings=spec.ocp,
@@ -519,10 +551,6 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
                                                      spec.abs_params.control_period),
                               spec.v0, spec.v_stop, case.T_K, settings=spec.simulation,
                               brake_torque_initial=spec.brake_torque_initial)
-    ocp, ocp_start, ocp_tried = solve_ocp_from_starts(spec, case, fmap, locked)
-    # the bound of the temperatures the optimal stop's tread actually passes through: the
-    # OCP cannot beat it (a check of the transcription), whatever heating does
-    bound, _ = bound_up_to(float(np.max(ocp.T_tread)))
 
     def abs_controller() -> RuleBasedABS:
         return RuleBasedABS(spec.abs_params, car.radius, car.brake_torque_rate_max,
@@ -537,6 +565,14 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
                                              slip_schedule=schedule),
                                 spec.v0, spec.v_stop, case.T_K, settings=spec.simulation,
                                 brake_torque_initial=spec.brake_torque_initial)
+    ocp, ocp_start, ocp_tried = solve_ocp_from_starts(spec, case, fmap, locked, abs_sim)
+    # the bound of the temperatures the optimal stop's tread actually passes through: the
+    # OCP cannot beat it (a check of the transcription), whatever heating does
+    bound, _ = bound_up_to(float(np.max(ocp.T_tread)))
+    optimality = ocp_optimality(ocp.stopping_distance, bound,
+                                {"abs": abs_sim.stopping_distance,
+                                 "abs_realistic": abs_real.stopping_distance,
+                                 "locked": locked.stopping_distance})
     abs_fmu = None
     if fmu_simulator is not None:
         abs_fmu = fmu_simulator(car, abs_controller(), spec.v0, spec.v_stop, case.T_K,
@@ -574,6 +610,7 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
         "abs_realistic_cycle_hz": abs_cycle_frequency(abs_real),
         "abs_cycle_hz": abs_cycle_frequency(abs_sim),
         "T_tread_max_abs_realistic_K": float(np.max(abs_real.T_tread)),
+        "ocp_optimality": optimality,
         "Fz_N": car.Fz, "radius_m": car.radius,
     }
     provenance = {"friction": prov, "friction_label": label, "ocp_status": ocp.status,
