@@ -275,7 +275,7 @@ class SealedSpectrum:
         A measured map to use instead of synthetic ones.
     """
 
-    def __init__(self, psd: PowerSpectrum, q_nodes: np.ndarray, depths, 
+    def __init__(self, psd: PowerSpectrum, q_nodes: np.ndarray, depths,
                  settings: SealingSettings | None = None,
                  height_map: tuple[np.ndarray, float, float] | None = None) -> None:
         from .water import check_water_depth
@@ -284,7 +284,7 @@ class SealedSpectrum:
         self.q = np.asarray(q_nodes, float)
         self.depths = check_water_depth(depths)
         q0, q1 = float(self.q[0]), float(self.q[-1])
-        n_qc = max(int(math.ceil(math.log10(q1 / self.q[1]) * s.qc_per_decade)), 1) + 1
+        n_qc = max(math.ceil(math.log10(q1 / self.q[1]) * s.qc_per_decade), 1) + 1
         self.q_c = np.geomspace(self.q[1], q1, n_qc)
         maps: list[SealedMap] = []
         if height_map is not None:
