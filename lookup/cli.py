@@ -169,6 +169,14 @@ def register_mu(sub: argparse._SubParsersAction) -> None:
                    help="which branch to solve (default both; 'cold' needs no [thermal] "
                         "or [macroasperity] data and skips the flash-temperature solve)")
     p.add_argument("--json", action="store_true", help="print JSON with a list 'points'")
+    w = p.add_argument_group("wet road (lookup.wet): dry and wet side by side")
+    w.add_argument("--water", default=None,
+                   help="water film depth: a bare number is m, or with a unit ('1 mm'); "
+                        "0 = dry. Adds mu_wet_cold, mu_wet_hot (sliding block: the "
+                        "squeeze-out time is D/v)")
+    w.add_argument("--lubricant", default="water",
+                   help="water (default), soapy_water, or custom (with --eta)")
+    w.add_argument("--eta", default=None, help="viscosity of a custom lubricant [Pa s]")
     add_engine_options(p)
     p.set_defaults(func=_run_mu)
 
@@ -200,6 +208,12 @@ def _run_mu(args: argparse.Namespace) -> int:
             ("dT_flash",) if b == "hot" else ())
     rows = [{k: float(c[i]) for k, c in zip(keys, columns, strict=True)}
             for i in range(len(v))]
+    wet_desc = None
+    if args.water is not None or args.eta is not None or args.lubricant != "water":
+        wet_desc, wet_cols = _wet_columns(args, model, v, T, p)
+        for i, row in enumerate(rows):
+            row.update({k: float(c[i]) for k, c in wet_cols.items()})
+        keys = tuple(keys) + tuple(wet_cols)
     freq = model.compound.modulus.describe().get("frequency_column")
     if args.json:
         out = {"compound": model.compound.name, "surface": model.surface.name,
@@ -212,14 +226,54 @@ def _run_mu(args: argparse.Namespace) -> int:
             out["hot_residual_K"] = model.last_hot_residual
         if freq:
             out["master_curve_frequency_column"] = freq
+        if wet_desc is not None:
+            out["wet"] = wet_desc
         dump_json(out)
     else:
         print(f"# compound {model.compound.name}, surface {model.surface.name}, T = {T_C:g} C, "
               f"p = {p:g} Pa, q1 = {model.q1:.4g} 1/m")
         if freq:
             print(f"# master curve frequency column: {freq}")
+        if wet_desc is not None:
+            print(f"# wet: water film {wet_desc['water_depth_m']:g} m, lubricant "
+                  f"{wet_desc['lubricant']['name']}, squeeze-out time D/v (sliding block)")
         print_table(rows, keys)
     return 0
+
+
+def _wet_columns(args: argparse.Namespace, model, v: list[float], T: float, p: float
+                 ) -> tuple[dict, dict[str, np.ndarray]]:
+    """mu_wet_cold, mu_wet_hot (and the dry share) for ``tirefric mu --water``."""
+    from .wet.friction import WetPerssonFriction
+    from .wet.water import Lubricant
+
+    if args.water is None:
+        raise InputError("--lubricant/--eta need the water film depth --water", source="--water")
+    import re
+
+    text = re.sub(r"^\s*([-+0-9.eE]+?)\s*([a-zA-Z]+)\s*$", r"\1 \2", args.water)  # 1mm
+    depth = parse_quantity_option(text, "--water", "length", "m")
+    if depth < 0:
+        raise InputError("water film depth must be >= 0 (0 = dry)", source="--water",
+                         field="water_depth", value=args.water)
+    eta = None if args.eta is None else parse_float(args.eta, "--eta")
+    try:
+        lub = Lubricant(args.lubricant, eta=eta)
+    except InputError as exc:
+        raise InputError(exc.message, source="--lubricant" if exc.field == "wet.lubricant"
+                         else "--eta", field=exc.field, value=exc.value) from None
+    wet = WetPerssonFriction(model.compound, model.surface, model.settings, depths=(depth,),
+                             lubricant=lub)
+    va = np.asarray(v, float)
+    cols: dict[str, np.ndarray] = {}
+    b = args.branch
+    if b in ("both", "cold"):
+        c = wet.cold(va, T, p)
+        cols.update(mu_wet_cold=c.mu, mu_visc_wet_cold=c.mu_visc, w_dry=wet.last_w.copy())
+    if b in ("both", "hot"):
+        cols["mu_wet_hot"] = wet.hot(va, T, p).mu
+    return {"water_depth_m": depth, "lubricant": lub.describe(),
+            "sealing": wet.sealed.describe()}, cols
 
 
 # -- tirefric plot ------------------------------------------------------------------------------

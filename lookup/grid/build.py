@@ -335,6 +335,9 @@ def build_grid(
     if output.suffix not in (".nc", ".npz"):
         raise InputError("grid output must end in .nc (NetCDF-4) or .npz (numpy)",
                          source=str(output))
+    if spec.wet and output.suffix != ".nc":
+        raise InputError("a grid with a [wet] branch is written as NetCDF-4 (.nc)",
+                         source=str(output))
     if not output.parent.is_dir():
         raise InputError("output folder does not exist", source=str(output.parent))
     if workers is not None and workers < 1:
@@ -403,6 +406,13 @@ def build_grid(
         grid.save_npz(output)
     else:
         save_grid(grid, output)
+        if spec.wet:  # the wet branch, appended to the same file (lookup.grid.wet)
+            from .wet import save_wet
+            from .wet_build import build_wet
+
+            wet, wet_s = build_wet(spec, workers=1 if where == "serial" else n_workers)
+            wet.meta["build"] = {"wall_s": wet_s}
+            save_wet(output, wet)
     ckpt.remove()
     report = BuildReport(output, nv, nv - n_reused, n_reused, wall, cpu,
                          1 if where == "serial" else n_workers, nT * np_)

@@ -68,6 +68,10 @@ class GridSpec:
         Nominal-pressure nodes [Pa], ascending, log-spaced unless listed.
     engine : dict
         Keyword arguments of :class:`lookup.friction.EngineSettings`.
+    wet : dict or None
+        The validated ``[wet]`` table (:mod:`lookup.grid.wet_build`): ``water_depth`` [m],
+        ``t_drain`` [s], ``lubricant`` (keyword arguments of :class:`lookup.wet.Lubricant`),
+        optional ``sealing``; None for a dry-only grid.
     description, provenance : str
         Free text.
     source : str
@@ -84,6 +88,7 @@ class GridSpec:
     description: str = ""
     provenance: str = ""
     source: str = "<dict>"
+    wet: dict[str, Any] | None = None
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -97,10 +102,14 @@ class GridSpec:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-able form (stored in the grid's metadata as ``spec``)."""
-        return {"name": self.name, "compound": self.compound, "surface": self.surface,
-                "v_m_s": self.v.tolist(), "T_K": self.T.tolist(), "p_Pa": self.p.tolist(),
-                "engine": dict(self.engine), "description": self.description,
-                "provenance": self.provenance, "source": self.source}
+        d = {"name": self.name, "compound": self.compound, "surface": self.surface,
+             "v_m_s": self.v.tolist(), "T_K": self.T.tolist(), "p_Pa": self.p.tolist(),
+             "engine": dict(self.engine), "description": self.description,
+             "provenance": self.provenance, "source": self.source}
+        if self.wet:
+            d["wet"] = {k: (np.asarray(v).tolist() if k in ("water_depth", "t_drain") else v)
+                        for k, v in self.wet.items()}
+        return d
 
     def with_axes(self, *, v: Any = None, T: Any = None, p: Any = None) -> GridSpec:
         """A copy with some axes replaced (e.g. a reduced grid for a quick check)."""
@@ -108,7 +117,8 @@ class GridSpec:
                         self.v if v is None else np.asarray(v, float),
                         self.T if T is None else np.asarray(T, float),
                         self.p if p is None else np.asarray(p, float),
-                        dict(self.engine), self.description, self.provenance, self.source)
+                        dict(self.engine), self.description, self.provenance, self.source,
+                        self.wet)
 
 
 def _model_ref(t: Table, key: str, kind: str) -> str:
@@ -169,11 +179,62 @@ def load_spec(path: str | Path) -> GridSpec:
     axes.check_unknown()
     engine_t = t.table("engine", required=False)
     engine = dict(engine_t.data) if engine_t is not None else {}
+    wet = _wet_table(t)
     t.check_unknown(extra_allowed=("engine",))
     spec = GridSpec(name, compound, surface, v, T, p, engine, description, provenance,
-                    str(path))
+                    str(path), wet)
     _check_engine(spec)
     return spec
+
+
+def _wet_table(t: Table) -> dict[str, Any] | None:
+    """The optional ``[wet]`` table (:mod:`lookup.grid.wet_build`), validated."""
+    w = t.table("wet", required=False)
+    if w is None:
+        return None
+    depth = w.array("water_depth", "length", increasing=True, min_length=2)
+    if depth[0] != 0.0:
+        raise w.error("water_depth", "the first node must be 0 (the dry road)", w.raw(
+            "water_depth"))
+    if (depth < 0).any():
+        raise w.error("water_depth", "water film depth must be >= 0", w.raw("water_depth"))
+    name = w.string("lubricant", default="water")
+    lub: dict[str, Any] = {"name": name}
+    if w.has("eta"):
+        lub["eta"] = w.quantity("eta", "dimensionless")
+    if w.has("S"):
+        lub["S"] = w.quantity("S", "dimensionless")
+    try:
+        from ..wet.water import Lubricant
+
+        Lubricant(**lub)
+    except InputError as exc:
+        raise InputError(exc.message, source=t.source, field=exc.field, value=exc.value
+                         ) from None
+    ta = w.table("t_drain")
+    if ta.has("values"):
+        t_drain = ta.array("values", "time", positive=True, increasing=True, min_length=2)
+    else:
+        lo = ta.quantity("min", "time", positive=True)
+        hi = ta.quantity("max", "time", positive=True)
+        n = ta.integer("n", minimum=2)
+        if not hi > lo:
+            raise ta.error("max", f"must exceed min ({lo:g} s)", hi)
+        t_drain = np.geomspace(lo, hi, n)
+    ta.check_unknown()
+    out: dict[str, Any] = {"water_depth": depth, "t_drain": t_drain, "lubricant": lub}
+    st = w.table("sealing", required=False)
+    if st is not None:
+        out["sealing"] = dict(st.data)
+        try:
+            from ..wet.sealing import SealingSettings
+
+            SealingSettings(**out["sealing"])
+        except TypeError as exc:
+            raise InputError(f"unknown sealing setting ({exc})", source=t.source,
+                             field="wet.sealing") from None
+    w.check_unknown(extra_allowed=("sealing",))
+    return out
 
 
 def _check_engine(spec: GridSpec) -> None:

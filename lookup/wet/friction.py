@@ -1,0 +1,215 @@
+r"""Persson friction on a wet road: sealing, squeeze-out and the lubricant, cold and hot.
+
+:class:`WetPerssonFriction` is the dry engine (:class:`lookup.friction.PerssonFriction`,
+review eqs. 17-21) with three changes at every evaluation, on both branches:
+
+1. **Sealing** (:mod:`lookup.wet.sealing`): from the dry contact fraction P(q) of the point
+   the sealing wavenumber q_c (P(q_c) = 0.42) is found, and the spectrum C(q) is replaced by
+   the water-smoothed C_wet(q) = r(q; q_c, d) C(q) of the water film depth d. The same
+   integrals (eqs. 17-20) then give mu_visc and the macro-contact fraction P_wet(q_m). The
+   smoother spectrum also gives a larger P_wet(q1), but the extra area is rubber pressed on
+   the flat water surfaces of the pools, where there is no adhesive shear: the real
+   (rubber-road) contact area of the adhesive term stays the dry P(q1) (the road's asperity
+   tops, above the pools' fill level, are unchanged). The load the pool water carries would
+   lower it further (review sec. 8: ~10 % of the load in sealed regions); that is not
+   modelled, so the adhesive term is an upper bound.
+2. **Squeeze-out** (:mod:`lookup.wet.squeeze`): the adhesive term sigma_f A/A0 / sigma0 is
+   multiplied by the dry share w of the real contact after the available time: the
+   macroasperity contact time D / v for a sliding block (``t_contact=None``), or a given time
+   (a tire's tread element in the footprint: patch length / rolling speed). The water drains
+   over the radius R (``drainage_radius``; default D/2, the macroasperity contact). In the
+   squeeze-out model the time enters only as t / R^2 (Stefan's law), so a table over the
+   *drainage time* t_drain = t (D / 2R)^2 at R = D/2 serves any drainage radius: a tire
+   whose water must leave a tread element of half-length R_b during the footprint time t_fp
+   reads it at t_drain = t_fp (D / 2 R_b)^2.
+3. **Lubricant** (:mod:`lookup.wet.water`): the viscosity law in the squeeze-out; soapy water
+   switches the adhesive term off (w = 0).
+
+At water depth 0 none of this applies and the result is the dry engine's, bit for bit.
+
+**Flash temperature on a wet road** (the hot branch). The heat model is the dry one
+(:mod:`lookup.flash_temperature`): frictional heat goes into the rubber and, through the
+contact, into the road; the water is *not* treated as a heat sink inside the contact. Reason:
+inside a macroasperity contact the water left is a film of the interfacial separation u_bar
+(micrometres, :mod:`lookup.wet.squeeze`), whose heat capacity per area rho_w c_w u_bar
+(~4e6 J/(m^3 K) x 1e-6 m = 4 J/(m^2 K)) is small against what the rubber takes up during the
+contact time, e_rubber sqrt(t_c) (~600 W s^0.5/(m^2 K) x sqrt(1e-3 s) ~ 20 J/(m^2 K)), and the
+sealed pools lie outside the real contact where the heat is made. Water on the road does
+change the *background* temperature T0 of the tread and road (review sec. 5.1: T0 depends on
+"whether the road is dry or wet"); that is an input (the grid's T axis), not part of this
+model. The squeeze-out weight is evaluated with the water at T0 and with the engine's G(q) at
+the evaluated state (the heated modulus on the hot branch).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..contact import Phi, contact_fraction
+from ..errors import InputError
+from ..friction import PerssonFriction
+from .sealing import SealedSpectrum, SealingSettings
+from .squeeze import S_NODES, dry_share, mean_separation
+from .water import Lubricant, check_water_depth
+
+
+@dataclass
+class WetPerssonFriction(PerssonFriction):
+    """The Persson engine on a wet road (module docstring).
+
+    Parameters
+    ----------
+    compound, surface, settings
+        As :class:`lookup.friction.PerssonFriction`.
+    depths : sequence of float
+        Water film depths [m] (volume of water per unit nominal road area; 0 = dry) for which
+        the sealed spectra are prepared; :attr:`depth_index` selects one.
+    lubricant : Lubricant
+    sealing : SealingSettings
+    t_contact : float or None
+        Time available for squeeze-out [s]; None: the sliding block's D / v.
+    adhesive_weight : float or None
+        Force the dry share w (0 or 1 for the grid's end-point solves); None: squeeze-out.
+    drainage_radius : float or None
+        Radius [m] over which the water drains; None: D/2.
+    """
+
+    depths: Any = (1e-3,)
+    lubricant: Lubricant = field(default_factory=Lubricant)
+    sealing: SealingSettings = field(default_factory=SealingSettings)
+    t_contact: float | None = None
+    adhesive_weight: float | None = None
+    drainage_radius: float | None = None
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        self.depths = check_water_depth(self.depths)
+        self.surface.require_D()  # squeeze-out drains a macroasperity contact of diameter D
+        if self.drainage_radius is not None and not (np.isfinite(self.drainage_radius)
+                                                     and self.drainage_radius > 0):
+            raise InputError("drainage radius must be finite and > 0 [m]",
+                             field="wet.drainage_radius", value=self.drainage_radius)
+        hm = None
+        if getattr(self.surface, "height_map", None) is not None:
+            from ..topography import read_height_map
+
+            m = read_height_map(self.surface.height_map)
+            hm = (m.heights, m.dx, m.dy)
+        self.sealed = SealedSpectrum(self.surface.psd, self.q, self.depths, self.sealing, hm)
+        self.depth_index = 0
+        self.last_w = np.zeros(0)
+
+    def at(self, depth_index: int, t_contact: float | None = None,
+           adhesive_weight: float | None = None) -> WetPerssonFriction:
+        """Select the depth node, the available time and an optional forced weight (in place)."""
+        if not 0 <= depth_index < self.depths.size:
+            raise InputError("no such water-depth node", field="depth_index", value=depth_index)
+        if t_contact is not None and not (np.isfinite(t_contact) and t_contact > 0):
+            raise InputError("contact time must be finite and > 0 [s]", field="t_contact",
+                             value=t_contact)
+        self.depth_index, self.t_contact = depth_index, t_contact
+        self.adhesive_weight = adhesive_weight
+        self._kernels = {}
+        return self
+
+    @property
+    def depth(self) -> float:
+        return float(self.depths[self.depth_index])
+
+    def describe(self) -> dict[str, Any]:
+        d = super().describe()
+        d["wet"] = {"lubricant": self.lubricant.describe(), "sealing": self.sealed.describe(),
+                    "squeeze_out": "lookup.wet.squeeze (Lorenz & Persson, Eur. Phys. J. E 32 "
+                                   "(2010) 281; Yang & Persson, J. Phys.: Condens. Matter 20 "
+                                   "(2008) 215214)",
+                    "flash_temperature": "dry heat model; water not a heat sink in the "
+                                         "contact (lookup.wet.friction docstring)"}
+        return d
+
+    def _evaluate(self, v: np.ndarray, T0: np.ndarray, sigma0: np.ndarray,
+                  dT: np.ndarray | None) -> dict[str, np.ndarray]:
+        dry = super()._evaluate(v, T0, sigma0, dT)
+        if self.depth == 0.0:
+            self.last_w = np.ones(v.size)
+            return dry
+        if dT is None:
+            la = np.broadcast_to(self.compound.log10_aT(T0)[:, None], (T0.size, self.q.size))
+            T_surf = T0
+        else:
+            la = self.compound.log10_aT(T0[:, None] + dT[:, 1:])
+            T_surf = T0 + dT[:, 0]
+        A_I, A_2 = self._angular(v, la)
+        s2 = (1.0 / sigma0**2)[:, None]
+        G_dry = self._G(0.125 * self.F * A_2 * s2)
+        P_dry = contact_fraction(self.area_c * G_dry)
+        # sealing wavenumber: the largest q with P >= p_c (P decreases with q), ln-q linear
+        p_c = self.sealing.p_c
+        above = P_dry >= p_c
+        k = above.sum(axis=1) - 1  # last node with P >= p_c (node 0 always: P(q0) = 1)
+        kk = np.minimum(k, self.q.size - 2)
+        Pa, Pb = P_dry[np.arange(v.size), kk], P_dry[np.arange(v.size), kk + 1]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            frac = np.clip((Pa - p_c) / (Pa - Pb), 0.0, 1.0)
+        lq = np.log(self.q)
+        q_c = np.exp(lq[kk] + frac * (lq[kk + 1] - lq[kk]))
+        q_c = np.where(k >= self.q.size - 1, self.q[-1], q_c)
+        q_c = np.where(k == 0, 0.0, q_c)  # falls below p_c before the first resolved node
+        r = self.sealed.ratio(q_c, self.depth_index)
+        F_wet = self.F * r
+        g = 0.125 * F_wet * A_2 * s2
+        G = self._G(g)
+        gg = g[:, 1:] + g[:, :-1]
+        c_area = self.area_c
+        P = contact_fraction(c_area * G)
+        ag = A_I / A_2 * g
+        with np.errstate(invalid="ignore", divide="ignore"):
+            rho = np.where(gg > 0, (ag[:, 1:] + ag[:, :-1]) / gg, 0.0)
+        PhiG = Phi(c_area * G, self.settings.gamma) / c_area
+        contrib = 4.0 * sigma0[:, None] * rho * np.diff(PhiG, axis=1)
+        zero = np.zeros((v.size, 1))
+        dmu_w = 0.5 * (np.concatenate([contrib, zero], axis=1)
+                       + np.concatenate([zero, contrib], axis=1))
+        i = self.i_m
+        f = (np.log(self.q_m) - lq[i - 1]) / self.dl[i - 1]
+        P_m = P[:, i - 1] + f * (P[:, i] - P[:, i - 1])
+        w = self._weight(v, T0, sigma0, F_wet, c_area * G, P_m)
+        self.last_w = w
+        # real (rubber-road) contact: the dry one (module docstring, item 1)
+        area = np.minimum(dry["area"], P[:, -1])
+        mu_cont = w * self.compound.adhesion.sigma_f(v, T_surf) * area / sigma0
+        return {"mu_visc": contrib.sum(axis=1), "mu_cont": mu_cont, "area": area,
+                "dmu_w": dmu_w, "P_m": P_m}
+
+    def _G(self, g: np.ndarray) -> np.ndarray:
+        gg = g[:, 1:] + g[:, :-1]
+        return np.concatenate([np.zeros((g.shape[0], 1)), np.cumsum(0.5 * gg * self.dl, axis=1)],
+                              axis=1)
+
+    def _weight(self, v: np.ndarray, T0: np.ndarray, sigma0: np.ndarray, F: np.ndarray,
+                G: np.ndarray, P_m: np.ndarray) -> np.ndarray:
+        """Dry share w of the real contact (:mod:`lookup.wet.squeeze`)."""
+        if self.adhesive_weight is not None:
+            return np.full(v.size, float(self.adhesive_weight))
+        if not self.lubricant.adhesion:
+            return np.zeros(v.size)
+        t = self.D / v if self.t_contact is None else np.full(v.size, self.t_contact)
+        u = mean_separation(S_NODES, self.q, F, G, self.i_m, sigma0, P_m,
+                            self.settings.gamma)
+        R = 0.5 * self.D if self.drainage_radius is None else self.drainage_radius
+        return dry_share(t, self.lubricant.viscosity(T0), R, sigma0, P_m, u)
+
+    def wet_table(self, v: Any, T0: float, sigma0: float) -> dict[str, np.ndarray]:
+        """Cold and hot branch with the squeeze-out weight (columns of ``tirefric mu --water``).
+
+        Returns arrays over v: mu_wet_cold, mu_wet_hot, mu_visc_wet_cold, mu_cont_wet_cold,
+        w_dry_cold (the dry share on the cold branch), area_wet_cold.
+        """
+        v = np.atleast_1d(np.asarray(v, float))
+        c, h = self.cold_and_hot(v, T0, sigma0)
+        self.cold(v, T0, sigma0)
+        w = self.last_w.copy()
+        return {"mu_wet_cold": c.mu, "mu_wet_hot": h.mu, "mu_visc_wet_cold": c.mu_visc,
+                "mu_cont_wet_cold": c.mu_cont, "w_dry_cold": w, "area_wet_cold": c.area}
