@@ -209,3 +209,41 @@ def test_realistic_abs_hydraulics_refuse_bad_values():
     for bad in ({"delay": -0.01}, {"release_factor": 0.5}, {"reference_decel": 0.0}):
         with pytest.raises(InputError, match="hydraulics"):
             HydraulicsParams(**bad)
+
+
+def test_mu_jump_high_low_high_through_the_map():
+    """A patch of half the friction from 10 to 25 m on dry asphalt: the ABS (idealised and
+    realistic) and the locked wheel stop longer than on the uniform road and shorter than on
+    a road of half the friction throughout; inside the patch the braking friction stays below
+    the patch's peak (0.5 mu_max, +0.1 %: the force map's spline error at the peak); after it
+    the ABS has the wheel rolling again."""
+    from tire_brush.braking import MuProfile, RealisticABS
+
+    curve = burckhardt_road("asphalt_dry")
+    fm = force_map(curve, REAL)
+    road = MuProfile.patch(10.0, 25.0, 0.5)
+    for make in (lambda: RuleBasedABS(ABSParams(), REAL.radius, REAL.brake_torque_rate_max),
+                 lambda: RealisticABS(ABSParams(), REAL.radius, REAL.brake_torque_rate_max,
+                                      REAL.mass),
+                 lambda: LockedWheel(REAL.brake_torque_rate_max)):
+        d = {name: simulate_braking(REAL, fm, make(), V0, V_STOP, T_AMB, road=r)
+             for name, r in (("high", None), ("jump", road), ("low", MuProfile.uniform(0.5)))}
+        assert d["high"].stopping_distance < d["jump"].stopping_distance \
+            < d["low"].stopping_distance, {k: r.stopping_distance for k, r in d.items()}
+        jump = d["jump"]
+        inside = (jump.x > 10.5) & (jump.x < 24.5)
+        assert np.max(-jump.mu[inside]) <= 0.5 * curve.peak_mu() * 1.001
+        if not isinstance(make(), LockedWheel):
+            after = (jump.x > 30.0) & (jump.v > 3.0)        # (below ~3 m/s the ABS may lock)
+            assert np.min(jump.kappa[after]) > -0.5, "the wheel recovers after the patch"
+
+
+def test_mu_profile_refuses_bad_sections():
+    from lookup.errors import InputError
+    from tire_brush.braking import MuProfile
+
+    assert MuProfile.patch(5.0, 8.0, 0.3)(6.0) == 0.3
+    assert MuProfile.patch(5.0, 8.0, 0.3)(8.0) == 1.0
+    for bad in (((1.0,), (1.0,)), ((0.0, 5.0, 5.0), (1.0, 0.5, 1.0)), ((0.0,), (0.0,))):
+        with pytest.raises(InputError, match="road"):
+            MuProfile(*bad)

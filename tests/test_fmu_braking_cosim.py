@@ -85,6 +85,26 @@ def test_abs_through_the_fmu_is_deterministic_and_does_not_lock(fmu):
     assert a.stopping_distance < locked.stopping_distance, "ABS beats the locked wheel here"
 
 
+def test_mu_jump_road_through_the_fmu(fmu):
+    """A patch of 0.4 of the friction from 5 to 12 m, fed to the FMU's mu_scale input by
+    travelled distance: the ABS stop is longer than on the uniform road and shorter than on
+    the low road throughout; inside the patch the force is at most 0.4 of the uniform road's
+    largest (the FMU scales its friction), outside it the full force comes back."""
+    from tire_brush.braking import MuProfile
+
+    c = car()
+    runs = {name: simulate_braking_fmu(fmu, c, abs_controller(c), 15.0, 293.15, mu_scale=m)
+            for name, m in (("high", 1.0), ("jump", MuProfile.patch(5.0, 12.0, 0.4)),
+                            ("low", MuProfile.uniform(0.4)))}
+    d = {k: r.stopping_distance for k, r in runs.items()}
+    assert d["high"] < d["jump"] < d["low"], d
+    jump, high = runs["jump"], runs["high"]
+    inside = (jump.x > 5.5) & (jump.x < 11.5)
+    assert np.max(np.abs(jump.Fx[inside])) <= 0.4 * np.max(np.abs(high.Fx)) * 1.02
+    after = (jump.x > 14.0) & (jump.v > 3.0)
+    assert np.max(np.abs(jump.Fx[after])) > 0.8 * np.max(np.abs(high.Fx))
+
+
 def test_thermal_from_the_car_or_the_fmu(fmu):
     hot = car(thermal=ThermalParams(heat_capacity=500.0, cooling=0.0, heat_fraction=1.0))
     cold = car(thermal=None)

@@ -52,7 +52,7 @@ import hashlib
 import json
 import math
 import shutil
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -230,7 +230,7 @@ def simulate_braking_fmu(
     v_stop: float = 1.0,
     settings: CosimSettings | None = None,
     brake_torque_initial: float = 0.0,
-    mu_scale: float = 1.0,
+    mu_scale: float | Callable[[float], float] = 1.0,
     unzipdir: str | Path | None = None,
     instance_name: str = "quarter_car",
 ) -> CosimResult:
@@ -258,7 +258,9 @@ def simulate_braking_fmu(
     brake_torque_initial
         Brake torque at t = 0 [N m].
     mu_scale
-        Road friction scale [1] (FMU input).
+        Road friction scale [1] (FMU input): a number, or a function of the travelled
+        distance [m] such as :class:`tire_brush.braking.road.MuProfile` (a road whose friction
+        changes along the stop), read at the start of each communication step.
     unzipdir
         An already extracted copy of the FMU (shared between runs); default: extract into a
         temporary folder, removed afterwards.
@@ -324,7 +326,8 @@ def simulate_braking_fmu(
         slave.enterInitializationMode()
         _set(slave, md_vars, start)
         x, v, omega, Tb, t = 0.0, float(v0), float(v0) / R, float(brake_torque_initial), 0.0
-        slave.setReal(vin, [v, 0.0, omega, Fz, float(T_ambient), float(mu_scale)])
+        road = mu_scale if callable(mu_scale) else (lambda _x: float(mu_scale))
+        slave.setReal(vin, [v, 0.0, omega, Fz, float(T_ambient), float(road(x))])
         slave.exitInitializationMode()
         controller.reset()
         # the initial state: free rolling, undeflected tire
@@ -339,7 +342,7 @@ def simulate_braking_fmu(
             if k % n_ctrl == 0:
                 u = controller.torque_rate(t, v, omega, Tb)
                 phase = controller.phase
-            slave.setReal(vin, [v, 0.0, omega, Fz, float(T_ambient), float(mu_scale)])
+            slave.setReal(vin, [v, 0.0, omega, Fz, float(T_ambient), float(road(x))])
             try:
                 slave.doStep(currentCommunicationPoint=t, communicationStepSize=h)
             except Exception as exc:   # fmpy raises FMICallException for fmi2Discard/Error

@@ -32,13 +32,14 @@ from .quarter_car import (
     tread_temperature_rise_bound,
 )
 from .reference import Burckhardt, MagicFormula, point_mass_stopping_distance
+from .road import MuProfile
 from .simulation import SimResult, SimSettings, simulate_braking
 from .slip_map import SlipMap, optimal_slip
 
 __all__ = [
     "ABSParams", "Burckhardt", "Case", "ForceMap", "FrictionSource", "HydraulicsParams",
-    "LockedWheel", "MagicFormula", "OCPResult", "OCPSettings", "QuarterCar", "RealisticABS",
-    "RuleBasedABS", "SimResult",
+    "LockedWheel", "MagicFormula", "MuProfile", "OCPResult", "OCPSettings", "QuarterCar",
+    "RealisticABS", "RuleBasedABS", "SimResult",
     "SimSettings", "SlipMap", "ThermalParams", "TorqueRamp", "default_axes",
     "load_quarter_car", "make_friction_source", "optimal_slip",
     "point_mass_stopping_distance", "register_friction_source", "simulate_braking",

@@ -21,6 +21,7 @@ interpolated linearly in ``v`` within the last step.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -107,6 +108,7 @@ def simulate_braking(
     *,
     settings: SimSettings | None = None,
     brake_torque_initial: float = 0.0,
+    road: Callable[[float], float] | None = None,
 ) -> SimResult:
     """Simulate a straight-line stop from ``v0`` to ``v_stop`` [m/s] under ``controller``.
 
@@ -127,6 +129,9 @@ def simulate_braking(
         Step and limits.
     brake_torque_initial
         Brake torque at t = 0 [N m]; the wheel starts free rolling (``omega = v0 / R``).
+    road
+        Friction factor against travelled distance [m] (:class:`.road.MuProfile`): a road
+        whose friction changes along the stop. None: uniform.
     """
     settings = settings or SimSettings()
     if not (v0 > v_stop > 0):
@@ -140,13 +145,14 @@ def simulate_braking(
     gh = GAMMA_ROS2 * h
     d_kappa = 1e-6
 
-    def mu_of(kappa: float, v: float, T: float) -> float:
-        return float(fx_over_fz(kappa, v, Fz, T))
+    def mu_of(kappa: float, v: float, T: float, x: float = 0.0) -> float:
+        mu = float(fx_over_fz(kappa, v, Fz, T))
+        return mu if road is None else mu * road(x)
 
     def f_and_jac(y: np.ndarray, u: float, need_jac: bool):
-        _, v, w, Tb, T = y
+        x, v, w, Tb, T = y
         kappa = (w * R - v) / v
-        mu = mu_of(kappa, v, T)
+        mu = mu_of(kappa, v, T, x)
         Fx = Fz * mu
         f = np.empty(5)
         f[0] = v
@@ -157,7 +163,7 @@ def simulate_braking(
             th.heat_fraction * Fx * (w * R - v) - th.cooling * (T - T_ambient)) / th.heat_capacity
         if not need_jac:
             return f, mu, None
-        mu_k = (mu_of(kappa + d_kappa, v, T) - mu) / d_kappa
+        mu_k = (mu_of(kappa + d_kappa, v, T, x) - mu) / d_kappa
         dk_dv, dk_dw = -w * R / v**2, R / v
         a, b = Fz / m * mu_k, -R * Fz / J * mu_k
         return f, mu, (a * dk_dv, a * dk_dw, b * dk_dv, b * dk_dw)
@@ -212,7 +218,8 @@ def simulate_braking(
                                f"{settings.t_max:g} s (v = {y[1]:.3g} m/s): too little brake "
                                "torque or friction")
     kappa_stop = (stop[2] * R - v_stop) / v_stop
-    rec.append((t_stop, *stop, kappa_stop, mu_of(kappa_stop, v_stop, stop[4]), phase))
+    rec.append((t_stop, *stop, kappa_stop, mu_of(kappa_stop, v_stop, stop[4], stop[0]),
+                phase))
     arr = np.array(rec, dtype=float)
     return SimResult(
         t=arr[:, 0], x=arr[:, 1], v=arr[:, 2], omega=arr[:, 3], brake_torque=arr[:, 4],
