@@ -47,6 +47,8 @@ UNITS: dict[str, dict[str, tuple[float, float]]] = {
     "force": {"N": (1.0, 0.0), "kN": (1e3, 0.0)},
     "stiffness_per_area": {"N/m^3": (1.0, 0.0), "N/mm^3": (1e9, 0.0)},
     "stiffness": {"N/m": (1.0, 0.0), "N/mm": (1e3, 0.0)},
+    "rotational_stiffness": {"N m/rad": (1.0, 0.0), "N m/deg": (180.0 / math.pi, 0.0)},
+    "rotational_damping": {"N m s/rad": (1.0, 0.0)},
     # tire parameters (tire_brush/params.py)
     "mass_per_area": {"kg/m^2": (1.0, 0.0), "": (1.0, 0.0)},
     "damping_per_area": {"N s/m^3": (1.0, 0.0), "Pa s/m": (1.0, 0.0), "": (1.0, 0.0)},

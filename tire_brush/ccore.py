@@ -43,7 +43,7 @@ SOURCES = ("tirecore.c",)
 #: rounds every product: the two must agree to the last bit).
 CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math", "-fPIC", "-shared")
 #: API and state version the binding expects (``TF_VERSION`` in ``tirecore.h``).
-API_VERSION = 2
+API_VERSION = 3
 #: Outputs, element columns and steady columns (``tirecore.h``).
 N_OUT, N_ELEM, STEADY_IN, STEADY_OUT = 10, 7, 4, 8
 
@@ -62,8 +62,9 @@ class Params(ctypes.Structure):
 
     _fields_ = [(n, ctypes.c_double) for n in (
         "R_e", "Fz_nom", "R0", "width", "C_z", "q_ra1", "q_ra2", "q_rb1", "q_rb2", "Fz_max",
+        "p_inflation", "p_nom", "p_fz1", "end_zone",
         "k_x", "k_y", "mass", "d_x", "d_y", "void_ratio")] + [("rigid", ctypes.c_int)] + [
-        (n, ctypes.c_double) for n in ("kc_x", "kc_y", "dc_x", "dc_y")] + [
+        (n, ctypes.c_double) for n in ("kc_x", "kc_y", "dc_x", "dc_y", "kc_psi", "dc_psi")] + [
         ("thermal", ctypes.c_int)] + [
         (n, ctypes.c_double) for n in ("heat_capacity", "conductance", "heat_fraction")] + [
         ("n_elements", ctypes.c_int), ("dt_internal", ctypes.c_double),
@@ -248,7 +249,8 @@ def core_params(params, *, n_elements: int, dt_internal: float, tol: float, v_fl
     P = Params()
     P.R_e, P.Fz_nom = params.R_e, params.Fz_nom
     pl = params.patch
-    for f in ("R0", "width", "C_z", "q_ra1", "q_ra2", "q_rb1", "q_rb2", "Fz_max"):
+    for f in ("R0", "width", "C_z", "q_ra1", "q_ra2", "q_rb1", "q_rb2", "Fz_max",
+              "p_inflation", "p_nom", "p_fz1", "end_zone"):
         setattr(P, f, getattr(pl, f))
     tr = params.tread
     P.k_x, P.k_y, P.void_ratio = tr.k_x, tr.k_y, tr.void_ratio
@@ -256,6 +258,7 @@ def core_params(params, *, n_elements: int, dt_internal: float, tol: float, v_fl
     c = params.carcass
     P.rigid = int(bool(rigid))
     P.kc_x, P.kc_y, P.dc_x, P.dc_y = c.k_x, c.k_y, c.d_x, c.d_y
+    P.kc_psi, P.dc_psi = c.k_psi, c.d_psi
     th = params.thermal
     P.thermal = int(bool(thermal))
     P.heat_capacity, P.conductance, P.heat_fraction = (th.heat_capacity, th.conductance,

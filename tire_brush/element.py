@@ -68,10 +68,10 @@ V_ROLL_MIN = 1e-6
 #: Columns of one element: u_x, u_y, w_x, w_y, s, proposed sub-step, in contact.
 N_ELEM = 7
 #: Head of the state vector (version, lattice size, x_top, belt deflection and velocity,
-#: tread force, tread temperature, time, 10 outputs).
-STATE_HEAD = 21
+#: tread force, tread temperature, time, 10 outputs, belt yaw angle, yaw rate, tread moment).
+STATE_HEAD = 24
 #: State layout version.
-STATE_VERSION = 2
+STATE_VERSION = 3
 LN10 = 2.302585092994046
 #: Relative margin of the bounds of the node walk (tirecore.c, WALK_MARGIN): a node skipped as
 #: "R < 0" (or "R >= 0") has |R| > 1e-7, far above the rounding of its evaluation.
@@ -294,32 +294,45 @@ class _Stage:
 class Ctx:
     """Constants of one outer step (``tf_ctx`` of the core)."""
 
-    __slots__ = ("Vbx", "Vby", "Vr", "dx", "dy", "fT", "iT", "inv_a2", "inv_void", "kx", "ky",
-                 "m", "mu_scale", "p_amp", "t", "tol_abs", "zx", "zy")
+    __slots__ = ("Vbx", "Vby", "Vr", "c_flat", "dx", "dy", "fT", "iT", "inv_ac", "inv_void",
+                 "kx", "ky", "m", "mu_scale", "p_amp", "t", "tol_abs", "wpsi", "zx", "zy")
 
-    def __init__(self, p, t: RefTable, T: float, Fz: float, a: float, b: float, p_amp: float,
-                 mu_scale: float, Vbx: float, Vby: float, Vr: float) -> None:
+    def __init__(self, p, t: RefTable, T: float, Fz: float, a: float, b: float, c_flat: float,
+                 p_amp: float, mu_scale: float, Vbx: float, Vby: float, Vr: float) -> None:
         self.t = t
         self.iT, self.fT = t.locate(1, T)
         self.kx, self.ky, self.dx, self.dy, self.m = p.k_x, p.k_y, p.d_x, p.d_y, p.mass
         self.Vbx, self.Vby, self.Vr = Vbx, Vby, Vr
+        self.wpsi = 0.0
         self.inv_void = 1.0 / (1.0 - p.void_ratio)
         self.mu_scale = mu_scale
         self.p_amp = p_amp
-        self.inv_a2 = 1.0 / (a * a)
+        self.c_flat = c_flat
+        self.inv_ac = 1.0 / (a - c_flat)
         self.tol_abs = p.tol * (0.5 * Fz / (a * b))
         self.zx = math.sqrt(p.k_x * p.mass) + p.d_x
         self.zy = math.sqrt(p.k_y * p.mass) + p.d_y
 
     def pressure(self, x: float) -> float:
-        """Parabolic gross pressure [Pa] at position ``x`` [m]."""
-        w = 1.0 - x * x * self.inv_a2
-        return self.p_amp * w if w > 0.0 else 0.0
+        """Gross pressure [Pa] at position ``x`` [m]: flat centre, parabolic ends."""
+        return self.p_amp * shape(self.c_flat, self.inv_ac, x)
 
 
-def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: float,
-          Zs: float, V_start: float) -> tuple[float, ...]:
-    """One implicit stage ``Y = Z + Hs F(Y)`` at pressure ``p`` [Pa] (module docstring).
+def shape(c_flat: float, inv_ac: float, x: float) -> float:
+    """Pressure shape [1] at ``x`` [m]: 1 on ``|x| <= c_flat``, then ``1 - t^2`` with
+    ``t = (|x| - c_flat) inv_ac`` (``inv_ac = 1/(a - c_flat)``), 0 beyond the patch."""
+    ax = abs(x)
+    if ax <= c_flat:
+        return 1.0
+    t = (ax - c_flat) * inv_ac
+    w = 1.0 - t * t
+    return w if w > 0.0 else 0.0
+
+
+def stage(c: Ctx, Hs: float, p: float, Vby: float, Zux: float, Zuy: float, Zwx: float,
+          Zwy: float, Zs: float, V_start: float) -> tuple[float, ...]:
+    """One implicit stage ``Y = Z + Hs F(Y)`` at pressure ``p`` [Pa] with the base's lateral
+    slip speed ``Vby`` [m/s] (module docstring).
 
     Returns
     -------
@@ -338,7 +351,7 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
     S.Ax = mdt + kdx
     S.Ay = mdt + kdy
     S.gx = mdt * Zwx - c.kx * Zux + kdx * c.Vbx
-    S.gy = mdt * Zwy - c.ky * Zuy + kdy * c.Vby
+    S.gy = mdt * Zwy - c.ky * Zuy + kdy * Vby
     S.G = _norm2(S.gx, S.gy)
     S.pf = c.mu_scale * p
     S.Zs = Zs
@@ -352,7 +365,7 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
     E0 = _cold_weight(Zs * S.inv_s0) if S.inv_s0 > 0.0 else 1.0
     mu0 = S.c0[1] + (S.c0[0] - S.c0[1]) * E0
     if S.G <= mu0 * S.pf:                       # the tip sticks
-        return (Zux - Hs * c.Vbx, Zuy - Hs * c.Vby, 0.0, 0.0, Zs, 0.0, 0.0, E0, S.c0[2],
+        return (Zux - Hs * c.Vbx, Zuy - Hs * Vby, 0.0, 0.0, Zs, 0.0, 0.0, E0, S.c0[2],
                 -S.gx, -S.gy)
     V_hi = S.G / (S.Ax if S.Ax < S.Ay else S.Ay)
     Vs = V_start if V_start < V_hi else V_hi
@@ -504,7 +517,7 @@ def stage(c: Ctx, Hs: float, p: float, Zux: float, Zuy: float, Zwx: float, Zwy: 
     s = Zs + Hs * V
     if s > S_MAX:
         s = S_MAX
-    return (Zux + Hs * (wx - c.Vbx), Zuy + Hs * (wy - c.Vby), wx, wy, s, V, P, S.E, S.dT,
+    return (Zux + Hs * (wx - c.Vbx), Zuy + Hs * (wy - Vby), wx, wy, s, V, P, S.E, S.dT,
             S.Ax * wx - S.gx, S.Ay * wy - S.gy)
 
 
@@ -515,18 +528,20 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
     Returns
     -------
     tuple
-        ``(energy, V, P, E, dT_flash, p, steps, J_x, J_y, J_m)``: friction work per unit
-        area over the step [J/m^2], the end-of-step slip speed, friction stress, cold weight,
-        flash temperature rise, pressure, the sub-steps taken, and the impulse of the friction
-        (the road's force on the element) per unit area [N s/m^2] with its moment about the
-        patch centre [N s/m], by the method's own quadrature (weights ``1 - gamma, gamma``).
+        ``(energy, V, P, E, dT_flash, p, steps, J_x, J_y, J_m, J_t)``: friction work per
+        unit area over the step [J/m^2], the end-of-step slip speed, friction stress, cold
+        weight, flash temperature rise, pressure, the sub-steps taken, the impulse of the
+        friction (the road's force on the element) per unit area [N s/m^2] with its moment
+        about the patch centre [N s/m], and the moment of the impulse of the tread's lateral
+        stress on the belt ``k_y u_y + d_y (w_y - V_by)`` [N s/m], by the method's own
+        quadrature (weights ``1 - gamma, gamma``).
     """
     ux, uy, wx, wy, s = e[0], e[1], e[2], e[3], e[4]
     Hn = e[5]
     if not Hn > 0.0 or Hn > h_e:
         Hn = h_e
     t = 0.0
-    energy = steps = Jx = Jy = Jm = 0.0
+    energy = steps = Jx = Jy = Jm = Jt = 0.0
     g1 = (1.0 - GAMMA) / GAMMA
     ig = 1.0 / GAMMA
     o2 = (0.0, 0.0, 0.0, 0.0, 0.0, _norm2(wx, wy), 0.0,
@@ -542,12 +557,14 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             # equilibrium; the SDIRK extrapolation would overshoot it
             xe = x_end + c.Vr * (rest - H)
             pe = c.pressure(xe)
-            o2 = stage(c, H, pe, ux, uy, wx, wy, s, _norm2(wx, wy))
+            vbe = c.Vby + xe * c.wpsi
+            o2 = stage(c, H, pe, vbe, ux, uy, wx, wy, s, _norm2(wx, wy))
             ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
             energy += H * (o2[6] * o2[5])
             Jx += H * o2[9]
             Jy += H * o2[10]
             Jm += H * (xe * o2[10])
+            Jt += H * (xe * (c.ky * o2[1] + c.dy * (o2[3] - vbe)))
             steps += 1.0
             p2 = pe
             t += H
@@ -556,7 +573,8 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
         Hs = GAMMA * H
         x1 = x_end + c.Vr * (rest - Hs)
         p1 = c.pressure(x1)
-        o1 = stage(c, Hs, p1, ux, uy, wx, wy, s, _norm2(wx, wy))
+        vb1 = c.Vby + x1 * c.wpsi
+        o1 = stage(c, Hs, p1, vb1, ux, uy, wx, wy, s, _norm2(wx, wy))
         Zux = ux + g1 * (o1[0] - ux)
         Zuy = uy + g1 * (o1[1] - uy)
         Zwx = wx + g1 * (o1[2] - wx)
@@ -564,7 +582,8 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
         Zs = s + g1 * (o1[4] - s)
         xe = x_end + c.Vr * (rest - H)
         pe = c.pressure(xe)
-        o2 = stage(c, Hs, pe, Zux, Zuy, Zwx, Zwy, Zs, o1[5])
+        vbe = c.Vby + xe * c.wpsi
+        o2 = stage(c, Hs, pe, vbe, Zux, Zuy, Zwx, Zwy, Zs, o1[5])
         err = abs(o2[0] - (ux + (o1[0] - ux) * ig)) * c.kx
         ey = abs(o2[1] - (uy + (o1[1] - uy) * ig)) * c.ky
         evx = abs(o2[2] - (wx + (o1[2] - wx) * ig)) * c.zx
@@ -587,6 +606,8 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             Jx += H * ((1.0 - GAMMA) * o1[9] + GAMMA * o2[9])
             Jy += H * ((1.0 - GAMMA) * o1[10] + GAMMA * o2[10])
             Jm += H * ((1.0 - GAMMA) * (x1 * o1[10]) + GAMMA * (xe * o2[10]))
+            Jt += H * ((1.0 - GAMMA) * (x1 * (c.ky * o1[1] + c.dy * (o1[3] - vb1)))
+                       + GAMMA * (xe * (c.ky * o2[1] + c.dy * (o2[3] - vbe))))
             steps += 1.0
             p2 = pe
             t += H
@@ -597,16 +618,34 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             if Hn < H_MIN:
                 Hn = H_MIN
     e[0], e[1], e[2], e[3], e[4], e[5] = ux, uy, wx, wy, s, Hn
-    return energy, o2[5], o2[6], o2[7], o2[8], p2, steps, Jx, Jy, Jm
+    return energy, o2[5], o2[6], o2[7], o2[8], p2, steps, Jx, Jy, Jm, Jt
+
+
+def vertical_stiffness(p) -> float:
+    """Vertical stiffness at the inflation pressure [N/m] (MF 6.2; Pacejka 2012, sec. 4.3.2)."""
+    return p.C_z * (1.0 + p.p_fz1 * ((p.p_inflation - p.p_nom) / p.p_nom))
 
 
 def patch_size(p, Fz: float) -> tuple[float, float]:
-    """Half-length ``a`` and width ``b`` [m] (Pacejka 2012, eqs. (A3.7)-(A3.8))."""
+    """Half-length ``a`` and width ``b`` [m] (Pacejka 2012, eqs. (A3.7)-(A3.8)) with the
+    vertical stiffness at the inflation pressure."""
     if not Fz > 0.0:
         return 0.0, 0.0
-    r = (Fz if Fz < p.Fz_max else p.Fz_max) / (p.C_z * p.R0)
+    r = (Fz if Fz < p.Fz_max else p.Fz_max) / (vertical_stiffness(p) * p.R0)
     return (p.R0 * (p.q_ra2 * r + p.q_ra1 * math.sqrt(r)),
             2.0 * p.width * (p.q_rb2 * r + p.q_rb1 * _cbrt(r)))
+
+
+def flat_half_length(p, Fz: float, a: float, b: float) -> float:
+    """Half-length [m] of the flat centre of the pressure
+    (:class:`tire_brush.params.PatchLaw`): ``c/a = 3 Fz / (2 a b p_inflation) - 2`` clipped
+    to ``[0, 1 - end_zone]``."""
+    f = 3.0 * (Fz / (2.0 * a * b * p.p_inflation)) - 2.0
+    if not f > 0.0:
+        f = 0.0
+    if f > 1.0 - p.end_zone:
+        f = 1.0 - p.end_zone
+    return f * a
 
 
 def _cbrt(x: float) -> float:
@@ -617,36 +656,31 @@ def _cbrt(x: float) -> float:
         return x ** (1.0 / 3.0)
 
 
-def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float, Fz: float,
-                 T: float, mu_scale: float) -> list[float]:
-    """Steady state of one operating point: one element marched through the patch, the
-    stress sampled at ``n_cells`` cell midpoints (``tf_steady`` of the core).
-
-    Returns
-    -------
-    list
-        ``[Fx, Fy, Mz, mu_eff, mu_slide, sliding_fraction, dT_flash_max, sub-steps]``.
-    """
+def _steady_march(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float, Fz: float,
+                  a: float, b: float, T: float, mu_scale: float) -> tuple[list[float], float]:
+    """One steady march with the belt unyawed (``steady_march`` of the core): the outputs of
+    :func:`steady_point` and the moment of the tread's stress on the belt [N m] (the friction
+    moment less that of the momentum the tread carries through the patch)."""
     out = [0.0] * 8
-    a, b = patch_size(p, Fz)
-    if not (a > 0.0 and b > 0.0):
-        return out
     sgn = -1.0 if Vr < 0.0 else 1.0
     vr = abs(Vr) if abs(Vr) > V_ROLL_MIN else V_ROLL_MIN
-    c = Ctx(p, t, T, Fz, a, b, 0.75 * Fz / (a * b), mu_scale, Vsx, Vsy, vr)
+    cf = flat_half_length(p, Fz, a, b)
+    mean = (cf + (2.0 / 3.0) * (a - cf)) / a
+    c = Ctx(p, t, T, Fz, a, b, cf, Fz / (2.0 * a * b * mean), mu_scale, Vsx, Vsy, vr)
     e = [0.0, 0.0, Vsx, Vsy, 0.0, 0.0, 1.0]
-    Jx = Jy = Jm = nsl = fsl = psl = dTm = steps = 0.0
+    Jx = Jy = Jm = Jt = nsl = fsl = psl = dTm = steps = 0.0
     x_prev = a
     # followed to the trailing edge; the forces are the friction impulse over the transit
     # times b V_r (the patch integral); the diagnostics are read at the cell midpoints
     for j in range(n_cells + 1):
         x = a * (1.0 - (2.0 * j + 1.0) / n_cells) if j < n_cells else -a
-        _, V, P, E, dT, pj, st, jx, jy, jm = integrate(c, e, x, (x_prev - x) / vr)
+        _, V, P, E, dT, pj, st, jx, jy, jm, jt = integrate(c, e, x, (x_prev - x) / vr)
         x_prev = x
         steps += st
         Jx += jx
         Jy += jy
         Jm += jm
+        Jt += jt
         if j < n_cells and V > CREEP_SPEED:
             nsl += 1.0
             fsl += P
@@ -662,7 +696,62 @@ def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float
     out[5] = nsl / n_cells
     out[6] = dTm
     out[7] = steps
-    return out
+    return out, Jt * b * vr * sgn
+
+
+#: Largest number of marches of the belt-yaw iteration of one steady point.
+YAW_MAX_IT = 60
+
+
+def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float, Fz: float,
+                 T: float, mu_scale: float) -> list[float]:
+    """Steady state of one operating point: one element marched through the patch, the
+    stress sampled at ``n_cells`` cell midpoints (``tf_steady`` of the core). Unless the
+    carcass is rigid, the belt yaws by ``psi = M_belt / kc_psi`` (``M_belt`` the moment of the
+    tread's stress on it) and the tread sees the lateral slip speed ``Vsy - V_r psi``
+    (Pacejka 2012, sec. 3.3): ``g(psi) = M_belt(psi)/kc_psi - psi`` is bracketed from 0 and
+    its root found by the Illinois variant of regula falsi.
+
+    Returns
+    -------
+    list
+        ``[Fx, Fy, Mz, mu_eff, mu_slide, sliding_fraction, dT_flash_max, sub-steps]``.
+    """
+    a, b = patch_size(p, Fz)
+    if not (a > 0.0 and b > 0.0):
+        return [0.0] * 8
+    o, Mb = _steady_march(p, t, n_cells, Vsx, Vsy, Vr, Fz, a, b, T, mu_scale)
+    if p.rigid or Mb == 0.0:
+        return o
+    steps = o[7]
+    lo, glo = 0.0, Mb / p.kc_psi
+    hi = glo
+    it = 0
+    while True:
+        oh, Mh = _steady_march(p, t, n_cells, Vsx, Vsy - Vr * hi, Vr, Fz, a, b, T, mu_scale)
+        steps += oh[7]
+        it += 1
+        ghi = Mh / p.kc_psi - hi
+        if ghi == 0.0 or (ghi > 0.0) != (glo > 0.0) or it >= YAW_MAX_IT:
+            break
+        lo, glo = hi, ghi
+        hi = 2.0 * hi
+    o = oh
+    while ghi != 0.0 and it < YAW_MAX_IT and abs(hi - lo) > 1e-12 + 1e-9 * abs(hi):
+        x = hi - ghi * (hi - lo) / (ghi - glo)
+        o, Mx = _steady_march(p, t, n_cells, Vsx, Vsy - Vr * x, Vr, Fz, a, b, T, mu_scale)
+        steps += o[7]
+        it += 1
+        gx = Mx / p.kc_psi - x
+        if gx == 0.0:
+            break
+        if (gx > 0.0) != (ghi > 0.0):             # the root lies between x and hi
+            lo, glo = hi, ghi
+        else:                                     # Illinois: halve the kept end's value
+            glo *= 0.5
+        hi, ghi = x, gx
+    o[7] = steps
+    return o
 
 
 class RefTire:
@@ -693,6 +782,7 @@ class RefTire:
         self.delta = [0.0, 0.0]
         self.Vb = [0.0, 0.0]
         self.F = [0.0, 0.0]
+        self.psi = self.wpsi = self.M = 0.0
         self.T_tread = T_tread
         self.time = 0.0
         self.out = [0.0] * 10
@@ -700,7 +790,7 @@ class RefTire:
     def get_state(self) -> list[float]:
         """State vector in the core's layout."""
         return ([float(STATE_VERSION), float(self.L), self.x_top, *self.delta, *self.Vb,
-                 *self.F, self.T_tread, self.time, *self.out]
+                 *self.F, self.T_tread, self.time, *self.out, self.psi, self.wpsi, self.M]
                 + [x for e in self.el for x in e])
 
     def set_state(self, buf) -> None:
@@ -712,12 +802,13 @@ class RefTire:
         self.F = buf[7:9]
         self.T_tread, self.time = buf[9], buf[10]
         self.out = buf[11:21]
+        self.psi, self.wpsi, self.M = buf[21], buf[22], buf[23]
         self.el = [buf[STATE_HEAD + i * N_ELEM:STATE_HEAD + (i + 1) * N_ELEM]
                    for i in range(self.L)]
 
-    def _tread_stiffness(self, c: Ctx, h: float) -> tuple[float, float]:
+    def _tread_stiffness(self, c: Ctx, h: float) -> tuple[float, float, float, float]:
         p = self.p
-        jx = jy = 0.0
+        jx = jy = s1 = s2 = 0.0
         kdx = p.k_x * h + p.d_x
         kdy = p.k_y * h + p.d_y
         mdt = p.mass / h
@@ -726,11 +817,13 @@ class RefTire:
             if e[6] == 0.0:
                 continue
             V = _norm2(e[2], e[3])
+            x = self.x_top - i * self.dx
             if V == 0.0:
                 jx += kdx
                 jy += kdy
+                s1 += x * kdy
+                s2 += x * (x * kdy)
                 continue
-            x = self.x_top - i * self.dx
             pr = c.pressure(x)
             S = _Stage()
             S.t = t
@@ -752,9 +845,13 @@ class RefTire:
             S.iso = True
             S.resid(V)
             cs = S.P / V
-            jx += kdx * ((mdt + cs) / (mdt + kdx + cs))
-            jy += kdy * ((mdt + cs) / (mdt + kdy + cs))
-        return jx, jy
+            rx = (mdt + cs) / (mdt + kdx + cs)
+            ry = (mdt + cs) / (mdt + kdy + cs)
+            jx += kdx * rx
+            jy += kdy * ry
+            s1 += x * (kdy * ry)
+            s2 += x * (x * (kdy * ry))
+        return jx, jy, s1, s2
 
     def _advance(self, h, Vsx, Vsy, V_r, Fz, a, b, Ts, mus) -> list[float]:
         p = self.p
@@ -776,39 +873,57 @@ class RefTire:
         area = b * dx
         any_in = False
         wsum = 0.0
+        cf = flat_half_length(p, Fz, a, b) if a > 0.0 and b > 0.0 else 0.0
+        iac = 1.0 / (a - cf) if a > 0.0 else 0.0
         for i in range(L):
             x = x_top - i * dx
             if not (a > 0.0 and area > 0.0 and -a < x < a):
                 self.el[i] = [0.0] * N_ELEM
             else:
                 any_in = True
-                wsum += 1.0 - x * x / (a * a)
+                wsum += shape(cf, iac, x)
         if not wsum > 0.0:
             any_in = False
         if not any_in:
             if not p.rigid:
                 self.delta = [self.delta[0] * (p.dc_x / (p.kc_x * h + p.dc_x)),
                               self.delta[1] * (p.dc_y / (p.kc_y * h + p.dc_y))]
-            self.Vb = [Vsx, Vsy]
+                self.psi *= p.dc_psi / (p.kc_psi * h + p.dc_psi)
+            self.Vb = [Vsx, Vsy - V_r * self.psi]
+            self.wpsi = 0.0
             self.F = [0.0, 0.0]
+            self.M = 0.0
             if p.thermal:
                 self.T_tread = (self.T_tread + h / p.heat_capacity * (p.conductance * Ts)) / (
                     1.0 + h * p.conductance / p.heat_capacity)
             return [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
-        c = Ctx(p, self.t, T0, Fz, a, b, Fz / (area * wsum), mus, Vsx, Vsy, V_r)
-        Vbx, Vby = Vsx, Vsy
+        c = Ctx(p, self.t, T0, Fz, a, b, cf, Fz / (area * wsum), mus, Vsx, Vsy, V_r)
+        Vbx, Vby, wpsi = Vsx, Vsy, 0.0
         if not p.rigid:
-            Jx, Jy = self._tread_stiffness(c, h)
+            # belt translation and yaw, linearly implicit (docs/tire-core.md, "belt"): the
+            # base of element i moves at Vby + x_i wpsi laterally, Vby = Vsy + uy - V_r psi
+            Jx, Jy, S1, S2 = self._tread_stiffness(c, h)
             Jx *= area
             Jy *= area
+            S1 *= area
+            S2 *= area
             ux = (self.F[0] - Jx * (Vsx - self.Vb[0]) - p.kc_x * self.delta[0]) / (
                 p.kc_x * h + p.dc_x + Jx)
-            uy = (self.F[1] - Jy * (Vsy - self.Vb[1]) - p.kc_y * self.delta[1]) / (
-                p.kc_y * h + p.dc_y + Jy)
+            D0 = (Vsy - V_r * self.psi) - self.Vb[1]
+            a11 = p.kc_y * h + p.dc_y + Jy
+            a12 = S1 - V_r * h * Jy
+            a21 = S1
+            a22 = p.kc_psi * h + p.dc_psi + S2 - V_r * h * S1
+            b1 = self.F[1] - p.kc_y * self.delta[1] - Jy * D0 + S1 * self.wpsi
+            b2 = self.M - p.kc_psi * self.psi - S1 * D0 + S2 * self.wpsi
+            det = a11 * a22 - a12 * a21
+            uy = (b1 * a22 - a12 * b2) / det
+            wpsi = (a11 * b2 - a21 * b1) / det
             self.delta = [self.delta[0] + h * ux, self.delta[1] + h * uy]
-            Vbx, Vby = Vsx + ux, Vsy + uy
-        c.Vbx, c.Vby = Vbx, Vby
-        Jx = Jy = Jm = heat = nsl = fsl = psl = dTm = n_in = Tx = Ty = 0.0
+            self.psi += h * wpsi
+            Vbx, Vby = Vsx + ux, (Vsy + uy) - V_r * self.psi
+        c.Vbx, c.Vby, c.wpsi = Vbx, Vby, wpsi
+        Jx = Jy = Jm = heat = nsl = fsl = psl = dTm = n_in = Tx = Ty = Tm = 0.0
         for i in range(L):
             x = x_top - i * dx
             e = self.el[i]
@@ -822,11 +937,14 @@ class RefTire:
                     h_e = (a + x) / -V_r
                 if h_e > h:
                     h_e = h
-                e[:] = [0.0, 0.0, Vbx, Vby, 0.0, h_e, 1.0]
-            energy, V, P, E, dT, pe, st, jx, jy, jm = integrate(c, e, x, h_e)
+                x_in = x + V_r * h_e              # where it entered
+                e[:] = [0.0, 0.0, Vbx, Vby + x_in * wpsi, 0.0, h_e, 1.0]
+            energy, V, P, E, dT, pe, st, jx, jy, jm, _ = integrate(c, e, x, h_e)
             self.work += st
             Tx += c.kx * e[0] + c.dx * (e[2] - Vbx)
-            Ty += c.ky * e[1] + c.dy * (e[3] - Vby)
+            ty = c.ky * e[1] + c.dy * (e[3] - (Vby + x * wpsi))
+            Ty += ty
+            Tm += x * ty
             Jx += jx
             Jy += jy
             Jm += jm
@@ -840,7 +958,9 @@ class RefTire:
                 if d > dTm:
                     dTm = d
         self.Vb = [Vbx, Vby]
+        self.wpsi = wpsi
         self.F = [Tx * area, Ty * area]
+        self.M = Tm * area
         if p.thermal:
             Q = heat * area
             self.T_tread = (self.T_tread + (p.heat_fraction * Q + h * p.conductance * Ts)

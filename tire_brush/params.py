@@ -78,14 +78,28 @@ def _raise(problems: list[InputError]) -> None:
 
 @dataclass(frozen=True)
 class PatchLaw:
-    """Contact-patch size from the vertical load (Pacejka 2012, eqs. (A3.7)-(A3.8)).
+    """Contact-patch size and pressure shape from the load and the inflation pressure.
 
-    With the vertical deflection ``rho = min(Fz, Fz_max) / C_z``:
+    Size: Pacejka 2012, eqs. (A3.7)-(A3.8), with the vertical stiffness at the inflation
+    pressure ``C_z' = C_z (1 + p_fz1 (p_inflation - p_nom) / p_nom)`` (MF 6.2; Pacejka 2012,
+    sec. 4.3.2) and the vertical deflection ``rho = min(Fz, Fz_max) / C_z'``:
 
     * half-length ``a = R0 (q_ra2 rho/R0 + q_ra1 sqrt(rho/R0))``  (A3.7),
     * width ``b = 2 W (q_rb2 rho/R0 + q_rb1 (rho/R0)^(1/3))``  (twice the half-width of A3.8).
 
     Above ``Fz_max`` the patch keeps its size at ``Fz_max`` and only the pressure grows.
+
+    Pressure along the patch (docs/tire-core.md, "pressure along the patch"): a flat centre
+    at the peak pressure over ``|x| <= c`` with parabolic ends, ``p = p_peak (1 - t^2)``,
+    ``t = (|x| - c)/(a - c)``. The flat part is where the inflation pressure carries the
+    flattened tread band (membrane equilibrium: the gross contact pressure of a radial tire
+    is close to its inflation pressure, Clark (ed.), *Mechanics of Pneumatic Tires*, 1981,
+    ch. 5); its share ``c/a = 3 Fz / (2 a b p_inflation) - 2`` makes the mean pressure
+    of the shape, ``p_peak (2 + c/a) / 3``, equal to ``Fz / (2 a b)`` with ``p_peak =
+    p_inflation``, clipped to ``[0, 1 - end_zone]``: below ``c = 0`` (light load) the
+    distribution is Pacejka's parabola, above the clip the peak exceeds the inflation
+    pressure (the carcass carries the rest). ``end_zone = 1`` gives the parabola at every
+    load (Pacejka's closed forms).
 
     Attributes
     ----------
@@ -101,6 +115,13 @@ class PatchLaw:
         Cube-root and linear coefficients of the width law [1].
     Fz_max : float
         Load up to which the law is used [N]; the law must give a growing patch up to it.
+    p_inflation, p_nom : float
+        Inflation pressure and the nominal one of ``C_z`` [Pa].
+    p_fz1 : float
+        Pressure coefficient of the vertical stiffness [1] (MF 6.2 PFZ1).
+    end_zone : float
+        Smallest share of the half-length over which the pressure falls to zero at each end
+        [1] (1: parabola).
     """
 
     R0: float = _param(
@@ -119,6 +140,18 @@ class PatchLaw:
     q_rb2: float = _param("1", "dimensionless", "Linear coefficient of the patch-width law [1]")
     Fz_max: float = _param(
         "N", "force", "Load [N] above which the patch keeps its size", positive=True)
+    p_inflation: float = _param(
+        "Pa", "pressure", "Inflation pressure [Pa] (vertical stiffness and pressure shape)",
+        positive=True)
+    p_nom: float = _param(
+        "Pa", "pressure", "Nominal inflation pressure [Pa] of C_z (MF 6.2 NOMPRES)",
+        positive=True)
+    p_fz1: float = _param(
+        "1", "dimensionless",
+        "Pressure coefficient of the vertical stiffness [1] (MF 6.2 PFZ1)", nonnegative=True)
+    end_zone: float = _param(
+        "1", "dimensionless", "Smallest share of the patch half-length over which the pressure "
+        "falls to zero at each end [1] (1: parabolic pressure)", positive=True, maximum=1.0)
 
     def __post_init__(self) -> None:
         _raise(_validate(self))
@@ -134,11 +167,24 @@ class PatchLaw:
                     field="PatchLaw.Fz_max", value=self.Fz_max)
             prev_a, prev_b = a, b
 
+    @property
+    def vertical_stiffness(self) -> float:
+        """Vertical stiffness at the inflation pressure [N/m] (MF 6.2)."""
+        return self.C_z * (1.0 + self.p_fz1 * ((self.p_inflation - self.p_nom) / self.p_nom))
+
+    def flat_share(self, Fz: float) -> float:
+        """Share ``c/a`` of the half-length over which the pressure is flat (class doc)."""
+        a, b = self.size(Fz)
+        if not (a > 0 and b > 0):
+            return 0.0
+        f = 3.0 * (Fz / (2.0 * a * b * self.p_inflation)) - 2.0
+        return min(max(f, 0.0), 1.0 - self.end_zone)
+
     def size(self, Fz: float) -> tuple[float, float]:
         """Half-length ``a`` [m] and width ``b`` [m] at load ``Fz`` [N] (0 for Fz <= 0)."""
         if not Fz > 0:
             return 0.0, 0.0
-        r = min(Fz, self.Fz_max) / (self.C_z * self.R0)
+        r = min(Fz, self.Fz_max) / (self.vertical_stiffness * self.R0)
         a = self.R0 * (self.q_ra2 * r + self.q_ra1 * math.sqrt(r))
         b = 2.0 * self.width * (self.q_rb2 * r + self.q_rb1 * r ** (1.0 / 3.0))
         return a, b
@@ -199,9 +245,14 @@ class CarcassParams:
     """Translational compliance of the belt (massless) against the rim.
 
     The belt carries the tread; it is held by springs ``k_x``, ``k_y`` and dampers ``d_x``,
-    ``d_y``. In steady state the belt is at rest relative to the rim and does not change the
-    forces; in transients it adds ``C_F / k`` to the relaxation length (Pacejka 2012,
-    sec. 7.2). ``rigid = true`` removes it.
+    ``d_y``. In steady state the belt translation is at rest relative to the rim and does not
+    change the forces; in transients it adds ``C_F / k`` to the relaxation length (Pacejka
+    2012, sec. 7.2). The belt also yaws (twists) about the vertical axis against ``k_psi``,
+    ``d_psi``: the aligning moment of the tread turns it by ``psi = Mz / k_psi``, which
+    lowers the slip angle the tread sees, ``alpha' = alpha - Mz / k_psi`` in steady state
+    (the carcass twist of Pacejka 2012, sec. 3.3, Fig. 3.33), so the cornering stiffness
+    ``C / (1 + C t / k_psi)`` saturates and then falls as the load grows. ``rigid = true``
+    removes both.
 
     Attributes
     ----------
@@ -211,6 +262,8 @@ class CarcassParams:
         Longitudinal and lateral stiffness [N/m].
     d_x, d_y : float
         Longitudinal and lateral damping [N s/m].
+    k_psi, d_psi : float
+        Yaw (twist) stiffness [N m/rad] and damping [N m s/rad].
     """
 
     rigid: bool = _param(None, None, "Rigid carcass: no belt deflection", toml_default=False)
@@ -221,6 +274,12 @@ class CarcassParams:
         "N.s/m", "damping", "Longitudinal belt (carcass) damping [N.s/m]", nonnegative=True)
     d_y: float = _param(
         "N.s/m", "damping", "Lateral belt (carcass) damping [N.s/m]", nonnegative=True)
+    k_psi: float = _param(
+        "N.m/rad", "rotational_stiffness", "Yaw (twist) stiffness of the belt [N.m/rad]",
+        positive=True)
+    d_psi: float = _param(
+        "N.m.s/rad", "rotational_damping", "Yaw (twist) damping of the belt [N.m.s/rad]",
+        nonnegative=True)
 
     def __post_init__(self) -> None:
         _raise(_validate(self))

@@ -7,8 +7,11 @@ integrated in time with the error-controlled element integration of the transien
 (:mod:`tire_brush.element`, docs/tire-core.md), and its stress is sampled at ``n`` equal cell
 midpoints; the force is the midpoint sum. The steady and the transient model therefore share
 one element law (stick, slide with eq. (28) friction, tip mass and damping) and one
-integrator. The belt is at rest relative to the rim in steady state: carcass compliance does
-not enter.
+integrator. The belt's translation is at rest relative to the rim in steady state and does
+not enter; its yaw (twist) does: the aligning moment turns the belt by ``psi = Mz / k_psi``
+and the tread sees the lateral slip speed ``V_sy - V_r psi`` (Pacejka 2012, sec. 3.3), solved
+per point by a bracketed root search on ``psi`` (``tf_steady``). A rigid carcass
+(``carcass.rigid``) has no yaw.
 
 The march runs in the compiled core (``tf_steady``, :mod:`tire_brush.ccore`), many operating
 points per call; ``backend = "reference"`` runs the Python reference
@@ -62,6 +65,8 @@ class SteadyBrush:
         Cells along the patch.
     massless
         Drop the tip mass and damping (Pacejka's massless brush, for the closed forms).
+    rigid_carcass
+        No belt yaw (default: the tire's ``carcass.rigid``).
     tol
         Local error tolerance of the element integration [1] (docs/tire-core.md).
     backend
@@ -70,7 +75,7 @@ class SteadyBrush:
 
     def __init__(self, params: TireParams, friction: FrictionModel | BranchTable | Any, *,
                  n_elements: int = N_STEADY, massless: bool = False, tol: float = TOL,
-                 backend: str = "c") -> None:
+                 backend: str = "c", rigid_carcass: bool | None = None) -> None:
         if isinstance(n_elements, bool) or not (isinstance(n_elements, int) and n_elements >= 2):
             raise InputError("must be an integer >= 2", field="n_elements", value=n_elements)
         if not (isinstance(tol, int | float) and np.isfinite(tol) and tol > 0):
@@ -84,8 +89,9 @@ class SteadyBrush:
         self.massless = bool(massless)
         self.backend = backend
         self._P = ccore.core_params(params, n_elements=n_elements, dt_internal=1.0, tol=tol,
-                                    v_floor=V_FLOOR, thermal=False, rigid=True,
-                                    massless=massless)
+                                    v_floor=V_FLOOR, thermal=False,
+                                    rigid=(params.carcass.rigid if rigid_carcass is None
+                                           else rigid_carcass), massless=massless)
         if backend == "c":
             self._lib = ccore.load()
             self._ctab = ccore.core_table(self.table)

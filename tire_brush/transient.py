@@ -179,12 +179,14 @@ class TransientBrushTire:
 
     def get_state(self) -> dict[str, np.ndarray | float | int]:
         """The full internal state (copies): element states, lattice phase, belt deflection
-        and velocity, last tread force, tread temperature, time and the last outputs."""
+        and velocity, last tread force, tread temperature, time, the last outputs and the
+        belt's yaw (angle ``psi``, rate ``wpsi``, tread moment on it ``M``)."""
         b = self.state_vector()
         return {"version": STATE_VERSION, "elements": b[STATE_HEAD:].reshape(-1, N_ELEM).copy(),
                 "x_top": float(b[2]), "delta": b[3:5].copy(), "Vb": b[5:7].copy(),
                 "F": b[7:9].copy(), "T_tread": float(b[9]), "time": float(b[10]),
-                "outputs": b[11:21].copy()}
+                "outputs": b[11:21].copy(), "psi": float(b[21]), "wpsi": float(b[22]),
+                "M": float(b[23])}
 
     def set_state(self, state: dict) -> None:
         """Restore a state from :meth:`get_state` (bit for bit)."""
@@ -193,7 +195,8 @@ class TransientBrushTire:
             S = np.array(state["elements"], dtype=float)
             parts = [np.array(state[k], dtype=float).reshape(-1)
                      for k in ("delta", "Vb", "F", "outputs")]
-            x_top, T_tread, time = (float(state[k]) for k in ("x_top", "T_tread", "time"))
+            x_top, T_tread, time, psi, wpsi, M = (float(state[k]) for k in (
+                "x_top", "T_tread", "time", "psi", "wpsi", "M"))
         except (KeyError, TypeError, ValueError) as exc:
             raise InputError(f"not a state of this model ({exc!r})", field="state") from None
         if version != STATE_VERSION or S.shape != (self.n_lattice, N_ELEM) or \
@@ -202,7 +205,7 @@ class TransientBrushTire:
                              field="state", value={"version": version, "elements": S.shape})
         buf = np.concatenate([[float(STATE_VERSION), float(self.n_lattice), x_top],
                               parts[0], parts[1], parts[2], [T_tread, time], parts[3],
-                              S.reshape(-1)])
+                              [psi, wpsi, M], S.reshape(-1)])
         if not np.isfinite(np.delete(buf, 9)).all():
             raise InputError("state holds non-finite numbers", field="state")
         if self.backend == "c":

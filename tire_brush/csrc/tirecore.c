@@ -46,6 +46,7 @@ struct tf_tire {
     int L;
     double *el;
     double x_top, delta[2], Vb[2], F[2], T_tread, time;
+    double psi, wpsi, M;   /* belt yaw [rad], its rate [rad/s], tread moment on the belt [N m] */
     double out[TF_NOUT];
     double work;
 };
@@ -214,8 +215,10 @@ typedef struct {
     double fT;
     double kx, ky, dx, dy, m;
     double Vbx, Vby, Vr;
+    double wpsi;               /* belt yaw rate: the base's lateral speed is Vby + x wpsi */
     double inv_void, mu_scale;
-    double p_amp, inv_a2;      /* parabola p(x) = p_amp (1 - x^2 / a^2) */
+    double p_amp, c_flat, inv_ac;  /* p(x) = p_amp on |x| <= c_flat, then p_amp (1 - t^2),
+                                      t = (|x| - c_flat) / (a - c_flat) */
     double tol_abs;            /* stress tolerance [Pa] */
     double zx, zy;             /* velocity-error weights sqrt(k m) + d [N s/m^3] */
 } tf_ctx;
@@ -332,8 +335,8 @@ typedef struct {
 /* One implicit stage Y = Z + Hs F(Y) of an element at pressure p [Pa]: stick, or slide with
  * the root of R(V) = 0 followed from V_start in the direction of its sign (docs/tire-core.md,
  * "stage solve"). */
-static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, double Zwx,
-                  double Zwy, double Zs, double V_start, tf_stage *o) {
+static void stage(const tf_ctx *c, double Hs, double p, double Vby, double Zux, double Zuy,
+                  double Zwx, double Zwy, double Zs, double V_start, tf_stage *o) {
     const tf_table *t = c->t;
     tf_stg S;
     double mdt = c->m / Hs;
@@ -342,7 +345,7 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
     S.Ax = mdt + kdx;
     S.Ay = mdt + kdy;
     S.gx = mdt * Zwx - c->kx * Zux + kdx * c->Vbx;
-    S.gy = mdt * Zwy - c->ky * Zuy + kdy * c->Vby;
+    S.gy = mdt * Zwy - c->ky * Zuy + kdy * Vby;
     S.G = norm2(S.gx, S.gy);
     S.pf = c->mu_scale * p;
     S.Zs = Zs;
@@ -360,7 +363,7 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
         o->wx = 0.0;
         o->wy = 0.0;
         o->ux = Zux - Hs * c->Vbx;
-        o->uy = Zuy - Hs * c->Vby;
+        o->uy = Zuy - Hs * Vby;
         o->s = Zs;
         o->P = 0.0;
         o->E = E0;
@@ -511,7 +514,7 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
     o->wx = S.gx * V / Dx;
     o->wy = S.gy * V / Dy;
     o->ux = Zux + Hs * (o->wx - c->Vbx);
-    o->uy = Zuy + Hs * (o->wy - c->Vby);
+    o->uy = Zuy + Hs * (o->wy - Vby);
     o->s = Zs + Hs * V;
     if (o->s > S_MAX) o->s = S_MAX;
     o->P = P;
@@ -521,15 +524,24 @@ static void stage(const tf_ctx *c, double Hs, double p, double Zux, double Zuy, 
     o->fy = S.Ay * o->wy - S.gy;
 }
 
+static double shape(double c_flat, double inv_ac, double x) {
+    double ax = fabs(x);
+    if (ax <= c_flat) return 1.0;
+    double t = (ax - c_flat) * inv_ac;
+    double w = 1.0 - t * t;
+    return w > 0.0 ? w : 0.0;
+}
+
 static double pressure(const tf_ctx *c, double x) {
-    double w = 1.0 - x * x * c->inv_a2;
-    return w > 0.0 ? c->p_amp * w : 0.0;
+    return c->p_amp * shape(c->c_flat, c->inv_ac, x);
 }
 
 /* What an element's integration over one outer step leaves besides its state. */
 typedef struct {
     double energy;    /* friction work per unit area [J/m^2] */
     double Jx, Jy, Jm;  /* impulse of the friction per unit area [N s/m^2] and its moment
+                           about the patch centre [N s/m] */
+    double Jt;          /* moment of the impulse of the tread's lateral stress on the belt
                            about the patch centre [N s/m] */
     double V, P, E, dT, p, fx, fy;
     double steps;
@@ -543,7 +555,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
     double Hn = e[5];
     if (!(Hn > 0.0) || Hn > h_e) Hn = h_e;
     double t = 0.0;
-    double energy = 0.0, steps = 0.0, Jx = 0.0, Jy = 0.0, Jm = 0.0;
+    double energy = 0.0, steps = 0.0, Jx = 0.0, Jy = 0.0, Jm = 0.0, Jt = 0.0;
     double g1 = (1.0 - GAMMA) / GAMMA, ig = 1.0 / GAMMA;
     tf_stage o1, o2;
     o2.V = norm2(wx, wy);
@@ -563,12 +575,14 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
              * equilibrium; the SDIRK extrapolation would overshoot it */
             double xe = x_end + c->Vr * (rest - H);
             double pe = pressure(c, xe);
-            stage(c, H, pe, ux, uy, wx, wy, s, norm2(wx, wy), &o2);
+            double vbe = c->Vby + xe * c->wpsi;
+            stage(c, H, pe, vbe, ux, uy, wx, wy, s, norm2(wx, wy), &o2);
             ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
             energy += H * (o2.P * o2.V);
             Jx += H * o2.fx;
             Jy += H * o2.fy;
             Jm += H * (xe * o2.fy);
+            Jt += H * (xe * (c->ky * o2.uy + c->dy * (o2.wy - vbe)));
             steps += 1.0;
             p2 = pe;
             t += H;
@@ -578,13 +592,15 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
         double Hs = GAMMA * H;
         double x1 = x_end + c->Vr * (rest - Hs);
         double p1 = pressure(c, x1);
-        stage(c, Hs, p1, ux, uy, wx, wy, s, norm2(wx, wy), &o1);
+        double vb1 = c->Vby + x1 * c->wpsi;
+        stage(c, Hs, p1, vb1, ux, uy, wx, wy, s, norm2(wx, wy), &o1);
         double Zux = ux + g1 * (o1.ux - ux), Zuy = uy + g1 * (o1.uy - uy);
         double Zwx = wx + g1 * (o1.wx - wx), Zwy = wy + g1 * (o1.wy - wy);
         double Zs = s + g1 * (o1.s - s);
         double xe = x_end + c->Vr * (rest - H);
         double pe = pressure(c, xe);
-        stage(c, Hs, pe, Zux, Zuy, Zwx, Zwy, Zs, o1.V, &o2);
+        double vbe = c->Vby + xe * c->wpsi;
+        stage(c, Hs, pe, vbe, Zux, Zuy, Zwx, Zwy, Zs, o1.V, &o2);
         double ex = fabs(o2.ux - (ux + (o1.ux - ux) * ig)) * c->kx;
         double ey = fabs(o2.uy - (uy + (o1.uy - uy) * ig)) * c->ky;
         double evx = fabs(o2.wx - (wx + (o1.wx - wx) * ig)) * c->zx;
@@ -603,6 +619,8 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
             Jx += H * ((1.0 - GAMMA) * o1.fx + GAMMA * o2.fx);
             Jy += H * ((1.0 - GAMMA) * o1.fy + GAMMA * o2.fy);
             Jm += H * ((1.0 - GAMMA) * (x1 * o1.fy) + GAMMA * (xe * o2.fy));
+            Jt += H * ((1.0 - GAMMA) * (x1 * (c->ky * o1.uy + c->dy * (o1.wy - vb1))) +
+                       GAMMA * (xe * (c->ky * o2.uy + c->dy * (o2.wy - vbe))));
             steps += 1.0;
             p2 = pe;
             t += H;
@@ -618,6 +636,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
     r->Jx = Jx;
     r->Jy = Jy;
     r->Jm = Jm;
+    r->Jt = Jt;
     r->V = o2.V;
     r->P = o2.P;
     r->E = o2.E;
@@ -630,18 +649,34 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
 
 /* ---------------------------------------------------------------- patch ---------------- */
 
+/* Vertical stiffness at the inflation pressure (MF 6.2; Pacejka 2012, sec. 4.3.2). */
+static double vertical_stiffness(const tf_params *p) {
+    return p->C_z * (1.0 + p->p_fz1 * ((p->p_inflation - p->p_nom) / p->p_nom));
+}
+
 static void patch_size(const tf_params *p, double Fz, double *a, double *b) {
     if (!(Fz > 0.0)) { *a = 0.0; *b = 0.0; return; }
-    double r = (Fz < p->Fz_max ? Fz : p->Fz_max) / (p->C_z * p->R0);
+    double r = (Fz < p->Fz_max ? Fz : p->Fz_max) / (vertical_stiffness(p) * p->R0);
     *a = p->R0 * (p->q_ra2 * r + p->q_ra1 * sqrt(r));
     *b = 2.0 * p->width * (p->q_rb2 * r + p->q_rb1 * cbrt(r));
+}
+
+/* Half-length of the flat centre of the pressure distribution (docs/tire-core.md, "pressure
+ * along the patch"): the flat part carries the inflation pressure; its share of the
+ * half-length follows from the load, f = 3 Fz / (2 a b p_inflation) - 2, between 0 (the
+ * parabola) and 1 - end_zone. */
+static double flat_half_length(const tf_params *p, double Fz, double a, double b) {
+    double f = 3.0 * (Fz / (2.0 * a * b * p->p_inflation)) - 2.0;
+    if (!(f > 0.0)) f = 0.0;
+    if (f > 1.0 - p->end_zone) f = 1.0 - p->end_zone;
+    return f * a;
 }
 
 /* The pressure amplitude p_amp is such that the element pressures at the sample positions
  * (lattice or cell midpoints) add up to Fz exactly: full sliding then gives mu Fz. */
 static void ctx_init(tf_ctx *c, const tf_params *p, const tf_table *t, double T, double Fz,
-                     double a, double b, double p_amp, double mu_scale, double Vbx, double Vby,
-                     double Vr) {
+                     double a, double b, double c_flat, double p_amp, double mu_scale,
+                     double Vbx, double Vby, double Vr) {
     c->t = t;
     locate(t, 1, T, &c->iT, &c->fT);
     c->kx = p->k_x;
@@ -651,11 +686,13 @@ static void ctx_init(tf_ctx *c, const tf_params *p, const tf_table *t, double T,
     c->m = p->mass;
     c->Vbx = Vbx;
     c->Vby = Vby;
+    c->wpsi = 0.0;
     c->Vr = Vr;
     c->inv_void = 1.0 / (1.0 - p->void_ratio);
     c->mu_scale = mu_scale;
     c->p_amp = p_amp;
-    c->inv_a2 = 1.0 / (a * a);
+    c->c_flat = c_flat;
+    c->inv_ac = 1.0 / (a - c_flat);
     c->tol_abs = p->tol * (0.5 * Fz / (a * b));
     c->zx = sqrt(p->k_x * p->mass) + p->d_x;
     c->zy = sqrt(p->k_y * p->mass) + p->d_y;
@@ -664,19 +701,72 @@ static void ctx_init(tf_ctx *c, const tf_params *p, const tf_table *t, double T,
 static int params_ok(const tf_params *p) {
     const double pos[] = {p->R_e, p->Fz_nom, p->R0, p->width, p->C_z, p->q_ra1, p->q_rb1,
                           p->Fz_max, p->k_x, p->k_y, p->dt_internal, p->tol, p->v_floor,
-                          p->kc_x, p->kc_y, p->heat_capacity};
+                          p->kc_x, p->kc_y, p->heat_capacity, p->p_inflation, p->p_nom,
+                          p->end_zone, p->kc_psi};
     const double nonneg[] = {p->mass, p->d_x, p->d_y, p->void_ratio, p->dc_x, p->dc_y,
-                             p->conductance, p->heat_fraction};
+                             p->conductance, p->heat_fraction, p->p_fz1, p->dc_psi};
     for (size_t i = 0; i < sizeof pos / sizeof pos[0]; i++)
         if (!(isfinite(pos[i]) && pos[i] > 0.0)) return 0;
     for (size_t i = 0; i < sizeof nonneg / sizeof nonneg[0]; i++)
         if (!(isfinite(nonneg[i]) && nonneg[i] >= 0.0)) return 0;
     if (!isfinite(p->q_ra2) || !isfinite(p->q_rb2) || !(p->void_ratio < 0.95)) return 0;
+    if (!(p->end_zone <= 1.0) || !(vertical_stiffness(p) > 0.0)) return 0;
     if (p->n_elements < 2) return 0;
     return 1;
 }
 
 /* ---------------------------------------------------------------- steady --------------- */
+
+/* One steady point with the belt at rest on the rim and yawed by psi = 0 (the march of
+ * docs/tire-core.md, "steady model"): the element is followed to the trailing edge; the
+ * forces are the impulse of its friction over the transit time times b V_r (the patch
+ * integral, no sampling); the diagnostics are read at the n_cells cell midpoints. */
+static double steady_march(const tf_params *p, const tf_table *t, int n_cells, double Vsx,
+                           double Vsy, double Vr, double Fz, double a, double b, double T,
+                           double mu_scale, double *o) {
+    double sgn = Vr < 0.0 ? -1.0 : 1.0;
+    double vr = fabs(Vr) > V_ROLL_MIN ? fabs(Vr) : V_ROLL_MIN;
+    double cf = flat_half_length(p, Fz, a, b);
+    double mean = (cf + (2.0 / 3.0) * (a - cf)) / a;
+    tf_ctx c;
+    ctx_init(&c, p, t, T, Fz, a, b, cf, Fz / (2.0 * a * b * mean), mu_scale, Vsx, Vsy, vr);
+    double e[TF_ELEM] = {0.0, 0.0, Vsx, Vsy, 0.0, 0.0, 1.0};
+    double Jx = 0.0, Jy = 0.0, Jm = 0.0, Jt = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
+    double steps = 0.0, x_prev = a;
+    for (int j = 0; j <= n_cells; j++) {
+        double x = j < n_cells ? a * (1.0 - (2.0 * j + 1.0) / n_cells) : -a;
+        tf_eres r;
+        integrate(&c, e, x, (x_prev - x) / vr, &r);
+        x_prev = x;
+        steps += r.steps;
+        Jx += r.Jx;
+        Jy += r.Jy;
+        Jm += r.Jm;
+        Jt += r.Jt;
+        if (j < n_cells && r.V > CREEP_SPEED) {
+            nsl += 1.0;
+            fsl += r.P;
+            psl += r.p;
+            double dT = r.dT * (1.0 - r.E);
+            if (dT > dTm) dTm = dT;
+        }
+    }
+    double Fx = Jx * b * vr, Fy = Jy * b * vr;
+    o[0] = Fx;
+    o[1] = Fy;
+    o[2] = Jm * b * vr * sgn;
+    o[3] = Fz > 0.0 ? norm2(Fx, Fy) / Fz : 0.0;
+    o[4] = psl > 0.0 ? fsl / psl : 0.0;
+    o[5] = nsl / n_cells;
+    o[6] = dTm;
+    o[7] = steps;
+    /* the moment of the tread's stress on the belt, which yaws it: the friction moment Mz
+     * less the moment of the momentum the tread carries through the patch */
+    return Jt * b * vr * sgn;
+}
+
+/* Largest number of marches of the belt-yaw iteration of one steady point. */
+#define YAW_MAX_IT 60
 
 int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const double *in,
               double T, double mu_scale, double *out) {
@@ -693,41 +783,48 @@ int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const d
         patch_size(p, Fz, &a, &b);
         for (int k = 0; k < TF_STEADY_OUT; k++) o[k] = 0.0;
         if (!(a > 0.0 && b > 0.0)) continue;
-        double sgn = Vr < 0.0 ? -1.0 : 1.0;
-        double vr = fabs(Vr) > V_ROLL_MIN ? fabs(Vr) : V_ROLL_MIN;
-        tf_ctx c;
-        ctx_init(&c, p, t, T, Fz, a, b, 0.75 * Fz / (a * b), mu_scale, Vsx, Vsy, vr);
-        double e[TF_ELEM] = {0.0, 0.0, Vsx, Vsy, 0.0, 0.0, 1.0};
-        double Jx = 0.0, Jy = 0.0, Jm = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
-        double steps = 0.0, x_prev = a;
-        /* the element is followed to the trailing edge; the forces are the impulse of its
-         * friction over the transit times b V_r (the patch integral, no sampling); the
-         * diagnostics are read at the n_cells cell midpoints */
-        for (int j = 0; j <= n_cells; j++) {
-            double x = j < n_cells ? a * (1.0 - (2.0 * j + 1.0) / n_cells) : -a;
-            tf_eres r;
-            integrate(&c, e, x, (x_prev - x) / vr, &r);
-            x_prev = x;
-            steps += r.steps;
-            Jx += r.Jx;
-            Jy += r.Jy;
-            Jm += r.Jm;
-            if (j < n_cells && r.V > CREEP_SPEED) {
-                nsl += 1.0;
-                fsl += r.P;
-                psl += r.p;
-                double dT = r.dT * (1.0 - r.E);
-                if (dT > dTm) dTm = dT;
-            }
+        double Mb = steady_march(p, t, n_cells, Vsx, Vsy, Vr, Fz, a, b, T, mu_scale, o);
+        if (p->rigid || Mb == 0.0) continue;
+        /* belt yaw psi = M_belt / kc_psi, which turns the base's lateral slip speed into
+         * Vsy - V_r psi (docs/tire-core.md, "belt"): the root of g(psi) = M_belt(psi) /
+         * kc_psi - psi, bracketed between 0 (g > 0 or < 0) and where the sign changes,
+         * found by the Illinois variant of regula falsi */
+        double steps = o[7];
+        double lo = 0.0, glo = Mb / p->kc_psi;
+        double hi = glo, ghi;
+        double oh[TF_STEADY_OUT];
+        int it = 0;
+        for (;;) {
+            double Mh = steady_march(p, t, n_cells, Vsx, Vsy - Vr * hi, Vr, Fz, a, b, T,
+                                     mu_scale, oh);
+            steps += oh[7];
+            it++;
+            ghi = Mh / p->kc_psi - hi;
+            if (ghi == 0.0 || (ghi > 0.0) != (glo > 0.0) || it >= YAW_MAX_IT) break;
+            lo = hi;
+            glo = ghi;
+            hi = 2.0 * hi;
         }
-        double Fx = Jx * b * vr, Fy = Jy * b * vr;
-        o[0] = Fx;
-        o[1] = Fy;
-        o[2] = Jm * b * vr * sgn;
-        o[3] = Fz > 0.0 ? norm2(Fx, Fy) / Fz : 0.0;
-        o[4] = psl > 0.0 ? fsl / psl : 0.0;
-        o[5] = nsl / n_cells;
-        o[6] = dTm;
+        memcpy(o, oh, sizeof oh);
+        while (ghi != 0.0 && it < YAW_MAX_IT && fabs(hi - lo) > 1e-12 + 1e-9 * fabs(hi)) {
+            double x = hi - ghi * (hi - lo) / (ghi - glo);
+            double ox[TF_STEADY_OUT];
+            double Mx = steady_march(p, t, n_cells, Vsx, Vsy - Vr * x, Vr, Fz, a, b, T,
+                                     mu_scale, ox);
+            steps += ox[7];
+            it++;
+            double gx = Mx / p->kc_psi - x;
+            memcpy(o, ox, sizeof ox);
+            if (gx == 0.0) break;
+            if ((gx > 0.0) != (ghi > 0.0)) {    /* the root lies between x and hi */
+                lo = hi;
+                glo = ghi;
+            } else {                            /* Illinois: halve the kept end's value */
+                glo *= 0.5;
+            }
+            hi = x;
+            ghi = gx;
+        }
         o[7] = steps;
     }
     return 0;
@@ -735,7 +832,8 @@ int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const d
 
 /* ---------------------------------------------------------------- transient ------------ */
 
-#define STATE_HEAD 21   /* version, L, x_top, delta[2], Vb[2], F[2], T_tread, time, out[10] */
+#define STATE_HEAD 24   /* version, L, x_top, delta[2], Vb[2], F[2], T_tread, time, out[10],
+                          psi, wpsi, M */
 
 tf_tire *tf_tire_new(const tf_params *p, const tf_table *t) {
     if (!p || !t || !params_ok(p) || !(p->Fz_nom <= p->Fz_max)) return NULL;
@@ -767,6 +865,7 @@ void tf_tire_reset(tf_tire *tire, double T_tread) {
     tire->delta[0] = tire->delta[1] = 0.0;
     tire->Vb[0] = tire->Vb[1] = 0.0;
     tire->F[0] = tire->F[1] = 0.0;
+    tire->psi = tire->wpsi = tire->M = 0.0;
     tire->T_tread = T_tread;
     tire->time = 0.0;
     for (int k = 0; k < TF_NOUT; k++) tire->out[k] = 0.0;
@@ -791,6 +890,9 @@ void tf_tire_get_state(const tf_tire *tire, double *buf) {
     buf[9] = tire->T_tread;
     buf[10] = tire->time;
     memcpy(buf + 11, tire->out, sizeof(double) * TF_NOUT);
+    buf[21] = tire->psi;
+    buf[22] = tire->wpsi;
+    buf[23] = tire->M;
     memcpy(buf + STATE_HEAD, tire->el, sizeof(double) * (size_t)tire->L * TF_ELEM);
 }
 
@@ -808,6 +910,9 @@ int tf_tire_set_state(tf_tire *tire, const double *buf) {
     tire->T_tread = buf[9];
     tire->time = buf[10];
     memcpy(tire->out, buf + 11, sizeof(double) * TF_NOUT);
+    tire->psi = buf[21];
+    tire->wpsi = buf[22];
+    tire->M = buf[23];
     memcpy(tire->el, buf + STATE_HEAD, sizeof(double) * (size_t)tire->L * TF_ELEM);
     return 0;
 }
@@ -815,22 +920,23 @@ int tf_tire_set_state(tf_tire *tire, const double *buf) {
 /* Stiffness of the tread against the belt over an outer step h (linearly implicit belt
  * coupling, docs/tire-core.md): (k h + d) (m/h + c) / (A + c) per element, with c the
  * secant friction stiffness p mu / |w| of a sliding element (infinite when it sticks). */
-static void tread_stiffness(const tf_tire *tire, const tf_ctx *c, double h, double T0_unused,
-                            double *Jx, double *Jy) {
-    (void)T0_unused;
+static void tread_stiffness(const tf_tire *tire, const tf_ctx *c, double h, double *Jx,
+                            double *Jy, double *S1, double *S2) {
     const tf_params *p = &tire->p;
-    double jx = 0.0, jy = 0.0;
+    double jx = 0.0, jy = 0.0, s1 = 0.0, s2 = 0.0;
     double kdx = p->k_x * h + p->d_x, kdy = p->k_y * h + p->d_y, mdt = p->mass / h;
     for (int i = 0; i < tire->L; i++) {
         const double *e = tire->el + (size_t)i * TF_ELEM;
         if (e[6] == 0.0) continue;
         double V = norm2(e[2], e[3]);
+        double x = tire->x_top - i * tire->dx;
         if (V == 0.0) {
             jx += kdx;
             jy += kdy;
+            s1 += x * kdy;
+            s2 += x * (x * kdy);
             continue;
         }
-        double x = tire->x_top - i * tire->dx;
         tf_tp q;
         double pr = pressure(c, x);
         prep_tp(c->t, c->iT, c->fT, pr * c->inv_void, &q);
@@ -861,9 +967,13 @@ static void tread_stiffness(const tf_tire *tire, const tf_ctx *c, double h, doub
         double rx = (mdt + cs) / (mdt + kdx + cs), ry = (mdt + cs) / (mdt + kdy + cs);
         jx += kdx * rx;
         jy += kdy * ry;
+        s1 += x * (kdy * ry);
+        s2 += x * (x * (kdy * ry));
     }
     *Jx = jx;
     *Jy = jy;
+    *S1 = s1;
+    *S2 = s2;
 }
 
 /* One outer step of length h (docs/tire-core.md, "outer step"). */
@@ -895,6 +1005,8 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     double area = b * dx;
     int any = 0;
     double wsum = 0.0;
+    double cf = a > 0.0 && b > 0.0 ? flat_half_length(p, Fz, a, b) : 0.0;
+    double iac = a > 0.0 ? 1.0 / (a - cf) : 0.0;
     for (int i = 0; i < L; i++) {
         double x = x_top - i * dx;
         double *e = tire->el + (size_t)i * TF_ELEM;
@@ -902,7 +1014,7 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
             memset(e, 0, sizeof(double) * TF_ELEM);
         } else {
             any = 1;
-            wsum += 1.0 - x * x / (a * a);
+            wsum += shape(cf, iac, x);
         }
     }
     if (!(wsum > 0.0)) any = 0;
@@ -910,10 +1022,13 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
         if (!p->rigid) {
             tire->delta[0] *= p->dc_x / (p->kc_x * h + p->dc_x);
             tire->delta[1] *= p->dc_y / (p->kc_y * h + p->dc_y);
+            tire->psi *= p->dc_psi / (p->kc_psi * h + p->dc_psi);
         }
         tire->Vb[0] = Vsx;
-        tire->Vb[1] = Vsy;
+        tire->Vb[1] = Vsy - V_r * tire->psi;
+        tire->wpsi = 0.0;
         tire->F[0] = tire->F[1] = 0.0;
+        tire->M = 0.0;
         if (p->thermal)
             tire->T_tread = (tire->T_tread + h / p->heat_capacity * (p->conductance * T_surface)) /
                             (1.0 + h * p->conductance / p->heat_capacity);
@@ -922,26 +1037,38 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
         return;
     }
     tf_ctx c;
-    ctx_init(&c, p, tire->t, T0, Fz, a, b, Fz / (area * wsum), mu_scale, Vsx, Vsy, V_r);
-    double Vbx = Vsx, Vby = Vsy;
+    ctx_init(&c, p, tire->t, T0, Fz, a, b, cf, Fz / (area * wsum), mu_scale, Vsx, Vsy, V_r);
+    double Vbx = Vsx, Vby = Vsy, wpsi = 0.0;
     if (!p->rigid) {
-        double Jx, Jy;
-        tread_stiffness(tire, &c, h, T0, &Jx, &Jy);
+        /* belt translation and yaw, linearly implicit (docs/tire-core.md, "belt"): the
+         * base of element i moves at Vby + x_i wpsi laterally, Vby = Vsy + uy - V_r psi */
+        double Jx, Jy, S1, S2;
+        tread_stiffness(tire, &c, h, &Jx, &Jy, &S1, &S2);
         Jx *= area;
         Jy *= area;
+        S1 *= area;
+        S2 *= area;
         double ux = (tire->F[0] - Jx * (Vsx - tire->Vb[0]) - p->kc_x * tire->delta[0]) /
                     (p->kc_x * h + p->dc_x + Jx);
-        double uy = (tire->F[1] - Jy * (Vsy - tire->Vb[1]) - p->kc_y * tire->delta[1]) /
-                    (p->kc_y * h + p->dc_y + Jy);
+        double D0 = (Vsy - V_r * tire->psi) - tire->Vb[1];
+        double a11 = p->kc_y * h + p->dc_y + Jy, a12 = S1 - V_r * h * Jy;
+        double a21 = S1, a22 = p->kc_psi * h + p->dc_psi + S2 - V_r * h * S1;
+        double b1 = tire->F[1] - p->kc_y * tire->delta[1] - Jy * D0 + S1 * tire->wpsi;
+        double b2 = tire->M - p->kc_psi * tire->psi - S1 * D0 + S2 * tire->wpsi;
+        double det = a11 * a22 - a12 * a21;
+        double uy = (b1 * a22 - a12 * b2) / det;
+        wpsi = (a11 * b2 - a21 * b1) / det;
         tire->delta[0] += h * ux;
         tire->delta[1] += h * uy;
+        tire->psi += h * wpsi;
         Vbx = Vsx + ux;
-        Vby = Vsy + uy;
+        Vby = (Vsy + uy) - V_r * tire->psi;
     }
     c.Vbx = Vbx;
     c.Vby = Vby;
+    c.wpsi = wpsi;
     double Jx = 0.0, Jy = 0.0, Jm = 0.0, heat = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
-    double n_in = 0.0, Tx = 0.0, Ty = 0.0;
+    double n_in = 0.0, Tx = 0.0, Ty = 0.0, Tm = 0.0;
     for (int i = 0; i < L; i++) {
         double x = x_top - i * dx;
         double *e = tire->el + (size_t)i * TF_ELEM;
@@ -951,10 +1078,11 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
             if (V_r > 0.0) h_e = (a - x) / V_r;
             else if (V_r < 0.0) h_e = (a + x) / -V_r;
             if (h_e > h) h_e = h;
+            double x_in = x + V_r * h_e;          /* where it entered */
             e[0] = 0.0;
             e[1] = 0.0;
             e[2] = Vbx;
-            e[3] = Vby;
+            e[3] = Vby + x_in * wpsi;
             e[4] = 0.0;
             e[5] = h_e;
             e[6] = 1.0;
@@ -963,7 +1091,9 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
         integrate(&c, e, x, h_e, &r);
         tire->work += r.steps;
         Tx += c.kx * e[0] + c.dx * (e[2] - Vbx);
-        Ty += c.ky * e[1] + c.dy * (e[3] - Vby);
+        double ty = c.ky * e[1] + c.dy * (e[3] - (Vby + x * wpsi));
+        Ty += ty;
+        Tm += x * ty;
         Jx += r.Jx;
         Jy += r.Jy;
         Jm += r.Jm;
@@ -979,8 +1109,10 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     }
     tire->Vb[0] = Vbx;
     tire->Vb[1] = Vby;
+    tire->wpsi = wpsi;
     tire->F[0] = Tx * area;
     tire->F[1] = Ty * area;
+    tire->M = Tm * area;
     fin[5] = Jx * area;
     fin[6] = Jy * area;
     fin[7] = Jm * area;

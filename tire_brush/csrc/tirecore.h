@@ -25,7 +25,7 @@ extern "C" {
 #endif
 
 /* Version of this API and of the state layout (tf_tire_get_state). */
-#define TF_VERSION 2
+#define TF_VERSION 3
 /* Shortest step [s] that advances the tire: a shorter one (subnormal included) only advances
  * the clock and leaves state and outputs as they are (nothing in the model moves in 1 ns:
  * the element sub-steps stop at 10 ns), so outputs are continuous as the step -> 0. */
@@ -51,13 +51,18 @@ typedef struct tf_tire tf_tire;
 /* Tire parameters, SI units (tire_brush/params.py documents each field). */
 typedef struct {
     double R_e, Fz_nom;
-    /* patch law, Pacejka 2012 eqs. (A3.7)-(A3.8) */
-    double R0, width, C_z, q_ra1, q_ra2, q_rb1, q_rb2, Fz_max;
+    /* patch law, Pacejka 2012 eqs. (A3.7)-(A3.8), vertical stiffness with the inflation
+     * pressure (MF 6.2: C_z (1 + p_fz1 (p_inflation - p_nom) / p_nom)), pressure shape
+     * (flat centre at most 1 - end_zone of the half-length, docs/tire-core.md) */
+    double R0, width, C_z, q_ra1, q_ra2, q_rb1, q_rb2, Fz_max, p_inflation, p_nom, p_fz1,
+        end_zone;
     /* tread elements per unit area */
     double k_x, k_y, mass, d_x, d_y, void_ratio;
     /* belt on the rim */
     int rigid;
     double kc_x, kc_y, dc_x, dc_y;
+    /* belt yaw (twist) on the rim: stiffness [N m/rad], damping [N m s/rad] */
+    double kc_psi, dc_psi;
     /* lumped tread temperature */
     int thermal;
     double heat_capacity, conductance, heat_fraction;
