@@ -24,6 +24,14 @@ def isotropic(tire: TireParams) -> TireParams:
     return dataclasses.replace(tire, tread=tread)
 
 
+def pacejka_like(tire: TireParams) -> TireParams:
+    """``tire`` with the parabolic pressure along the patch at every load and a rigid carcass
+    (no belt yaw): the brush of Pacejka's closed forms (2012, ch. 3)."""
+    patch = dataclasses.replace(tire.patch, end_zone=1.0)
+    carcass = dataclasses.replace(tire.carcass, rigid=True)
+    return dataclasses.replace(tire, patch=patch, carcass=carcass)
+
+
 def without_thermal(tire: TireParams) -> TireParams:
     """``tire`` with the lumped tread temperature switched off."""
     return dataclasses.replace(tire, thermal=dataclasses.replace(tire.thermal, enabled=False))

@@ -15,14 +15,15 @@ PASSENGER = (models_dir() / "tires" / "passenger.toml").read_text()
 
 def test_passenger_reproduces_its_provenance() -> None:
     """The numbers the provenance note derives: a = 66 mm and b = 141 mm at 4 kN (eqs. A3.7-8),
-    slip stiffnesses of the MF-Tyre example (86.7 kN, 53.4 kN/rad) to 0.5%."""
+    the longitudinal slip stiffness of the MF-Tyre example (86.7 kN) to 0.5% (the cornering
+    stiffness, which the belt's twist shapes, is checked against the same tire's curve in
+    test_tire_realism.py)."""
     t = load_tire("passenger")
     a, b = t.patch.size(4000.0)
     assert a == pytest.approx(0.0660, abs=2e-4)
     assert b == pytest.approx(0.1409, abs=2e-4)
-    C_kappa, C_alpha = t.slip_stiffness(4000.0)
+    C_kappa, _ = t.slip_stiffness(4000.0)
     assert C_kappa == pytest.approx(86.7e3, rel=5e-3)
-    assert C_alpha == pytest.approx(53.4e3, rel=5e-3)
     assert t.name == "passenger" and t.provenance
 
 

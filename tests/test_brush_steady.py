@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from brush_cases import T20, isotropic, passenger, peaked_grid, without_thermal
+from brush_cases import T20, isotropic, pacejka_like, passenger, peaked_grid, without_thermal
 
 from lookup.errors import InputError
 from lookup.grid import FrictionGrid
@@ -24,7 +24,10 @@ VX = 20.0
 
 @pytest.fixture(scope="module")
 def tire():
-    return without_thermal(passenger())
+    """The passenger tire with Pacejka's parabolic pressure and no belt yaw, the brush the
+    closed forms describe (the shipped tire's flat-topped pressure and carcass twist are
+    tested in test_tire_realism.py)."""
+    return pacejka_like(without_thermal(passenger()))
 
 
 def _geometry(tire, Fz=FZ):

@@ -17,7 +17,7 @@ import pytest
 from fmu_src.runtime.interface import DISPLAY_UNITS, UNITS
 
 _DERIVED = {"N": {"kg": 1, "m": 1, "s": -2}, "J": {"kg": 1, "m": 2, "s": -2},
-            "W": {"kg": 1, "m": 2, "s": -3}}
+            "W": {"kg": 1, "m": 2, "s": -3}, "Pa": {"kg": 1, "m": -1, "s": -2}}
 _BASE = {"kg", "m", "s", "A", "K", "mol", "cd", "rad"}
 
 
