@@ -98,3 +98,25 @@ def plot_surface(surface: Surface, path: str | Path) -> Path:
     ax[1].set(xlabel="wavenumber q [1/m]", ylabel="cumulative rms slope xi(q) [1]",
               title="rms slope (q1 rule, review sec. 5.1)")
     return _finish(fig, ax, path)
+
+
+def plot_rolling(compound: Compound, T_C: Sequence[float], v: np.ndarray, mu_of, title: str,
+                 path: str | Path) -> Path:
+    """Rolling-friction master curve: mu against log10 v at each temperature [C], and the same
+    against log10(v a_T) (a_T to the master curve's T_ref), where the curves collapse (review
+    sec. 6, Fig. of the tread compound: linear response, no heating). ``mu_of(v, T [K])``."""
+    plt = _plt()
+    v = np.asarray(v, float)
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.5))
+    colors = plt.cm.coolwarm(np.linspace(0, 1, max(len(T_C), 2)))
+    for T, col in zip(T_C, colors, strict=False):
+        mu = mu_of(v, T + 273.15)
+        la = float(compound.log10_aT(np.array(T + 273.15)))
+        ax[0].plot(np.log10(v), mu, color=col, label=f"{T:g} C")
+        ax[1].plot(np.log10(v) + la, mu, color=col, label=f"{T:g} C")
+    ax[0].set(xlabel="log10 rolling speed v [m/s]", ylabel="rolling friction mu [1]",
+              title=f"rolling friction: {title}")
+    T_ref = compound.T_ref - 273.15
+    ax[1].set(xlabel=f"log10 (v a_T) [m/s], reduced to T_ref = {T_ref:g} C",
+              ylabel="rolling friction mu [1]", title="shifted with a_T: master curve")
+    return _finish(fig, ax, path)
