@@ -10,7 +10,9 @@ background temperature and prints the forces; ``--json`` prints a list ``points`
 ``--grid`` takes a grid file or shipped grid name (``default``), or ``constant:MU`` /
 ``constant:MU_COLD,MU_HOT`` for flat friction (e.g. to compare with Pacejka's brush).
 A range starting with a minus sign needs ``=``: ``--kappa=-0.3:0:31`` (argparse would read
-``-0.3:0:31`` as an option).
+``-0.3:0:31`` as an option). ``--axes`` (default ``adapted-sae``, the brush model's own) names
+the sign convention of the slip angle given and of the forces printed
+(:mod:`tire_brush.axes`; ``iso-v`` is ISO-W at zero steer angle).
 """
 
 from __future__ import annotations
@@ -21,6 +23,8 @@ import numpy as np
 
 from lookup.cli import dump_json, parse_float, parse_float_list, print_table
 from lookup.errors import InputError
+
+from .axes import AXES, BRUSH_AXES, SlipInputs, Wrench, convert_inputs, convert_wrench
 
 KEYS = ("kappa", "alpha", "Fx", "Fy", "Mz", "mu_eff", "mu_slide", "sliding_fraction",
         "dT_flash_max")
@@ -79,6 +83,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                                            "negative start: --alpha-deg=-10:10:21")
     c.add_argument("--n-elements", type=int, default=None,
                    help="cells along the patch (default: the steady model's default)")
+    c.add_argument("--axes", choices=AXES, default=BRUSH_AXES,
+                   help="sign convention of --alpha-deg and of the printed forces (default "
+                        "adapted-sae, the brush model's; iso-v = iso-w at zero steer angle)")
     c.add_argument("--json", action="store_true", help="print JSON with a list 'points'")
     c.add_argument("--plot", metavar="FILE.png", help="write a plot of the curve")
     c.set_defaults(func=_run_curve)
@@ -114,17 +121,24 @@ def _run_curve(args: argparse.Namespace) -> int:
     tire = load_tire(args.tire)
     friction = load_friction(args.grid)
     model = SteadyBrush(tire, friction, n_elements=n)
-    out = model.solve(kappa, alpha, vx, Fz, T_C + 273.15)
-    rows = [{k: float(np.asarray(getattr(out, k))[i]) for k in KEYS} for i in range(kappa.size)]
+    # the slip angle is given in --axes; the brush works in its own convention
+    alpha_brush = convert_inputs(SlipInputs(kappa, alpha, vx, 0.0), args.axes, BRUSH_AXES).alpha
+    out = model.solve(kappa, alpha_brush, vx, Fz, T_C + 273.15)
+    w = convert_wrench(Wrench(out.Fx, out.Fy, Fz, 0.0, 0.0, out.Mz), BRUSH_AXES, args.axes)
+    values = {k: np.asarray(getattr(out, k)) for k in KEYS}
+    values.update(alpha=np.broadcast_to(alpha, kappa.shape), Fx=np.asarray(w.Fx),
+                  Fy=np.asarray(w.Fy), Mz=np.asarray(w.Mz))
+    rows = [{k: float(values[k][i]) for k in KEYS} for i in range(kappa.size)]
     if args.plot:
         _plot(args.plot, rows, "kappa" if args.kappa is not None else "alpha", tire.name,
               Fz, vx, T_C)
     if args.json:
         dump_json({"tire": tire.name, "friction": friction.describe(), "Fz_N": Fz,
-                   "vx_m_s": vx, "T_C": T_C, "n_elements": n, "points": rows})
+                   "vx_m_s": vx, "T_C": T_C, "n_elements": n, "axes": args.axes,
+                   "points": rows})
     else:
         print(f"# tire {tire.name}, Fz = {Fz:g} N, vx = {vx:g} m/s, T = {T_C:g} C, "
-              f"{n} cells")
+              f"{n} cells, axes {args.axes}")
         print_table(rows, KEYS)
     return 0
 
