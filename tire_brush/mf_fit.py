@@ -58,11 +58,11 @@ class FitSettings:
     kappa_max : float
         Largest ``|kappa|`` of the pure longitudinal sweep [1] (< 1: ``-1`` is a locked wheel).
     n_kappa : int
-        Points of the pure longitudinal sweep (odd: includes 0), denser near 0.
+        Points of the pure longitudinal sweep, denser near 0 (an odd number includes 0).
     alpha_max_deg : float
         Largest ``|alpha|`` of the pure side-slip sweep [deg].
     n_alpha : int
-        Points of the pure side-slip sweep (odd), denser near 0.
+        Points of the pure side-slip sweep, denser near 0 (odd: includes 0).
     combined_kappa_max : float
         Largest ``|kappa|`` of the combined grid [1].
     n_combined_kappa : int
