@@ -116,6 +116,15 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
      "    double dm = mc - mh;"),
     ("tire core: road force from the end-of-step friction only", "tire_brush/csrc/tirecore.c",
      "Jx += H * ((1.0 - GAMMA) * o1.fx + GAMMA * o2.fx);", "Jx += H * o2.fx;"),
+    # -- axis conventions and the Magic Formula fit (tire_brush/axes.py, mf_fit.py) ----------
+    ("adapted SAE Fy taken as the ISO Fy", "tire_brush/axes.py",
+     'vy=-1, gamma=1, kappa=1, Fx=1, Fy=-1, Fz=1, Mx=1, My=-1,',
+     'vy=-1, gamma=1, kappa=1, Fx=1, Fy=1, Fz=1, Mx=1, My=-1,'),
+    ("MF fit on the brush's own (adapted SAE) signs, not ISO-W", "tire_brush/mf_fit.py",
+     'BRUSH_AXES, "iso-w")\n    return FitPoints(',
+     'BRUSH_AXES, "adapted-sae")\n    return FitPoints('),
+    ("MF trail without the load factor Fz/Fz0 (eq. 4.E42)", "tire_brush/magic_formula.py",
+     'Dt = Fz * (R0 / p["FNOMIN"])', 'Dt = (R0 / p["FNOMIN"]) * p["FNOMIN"]'),
 ]
 
 #: Test files run first (independent references; cheap); the rest follow in name order.

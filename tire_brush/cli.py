@@ -10,7 +10,17 @@ background temperature and prints the forces; ``--json`` prints a list ``points`
 ``--grid`` takes a grid file or shipped grid name (``default``), or ``constant:MU`` /
 ``constant:MU_COLD,MU_HOT`` for flat friction (e.g. to compare with Pacejka's brush).
 A range starting with a minus sign needs ``=``: ``--kappa=-0.3:0:31`` (argparse would read
-``-0.3:0:31`` as an option).
+``-0.3:0:31`` as an option). ``--axes`` (default ``adapted-sae``, the brush model's own) names
+the sign convention of the slip angle given and of the forces printed
+(:mod:`tire_brush.axes`; ``iso-v`` is ISO-W at zero steer angle).
+
+``tirefric tire fit-mf --T CELSIUS --vx M_S -o FILE.tir [--tire passenger] [--grid default]
+[--loads 0.5,1,1.5] [--fittyp 61|6] [--json] [--points FILE.csv] [--axes iso-w]`` fits Magic
+Formula 6.1 / PAC2002 coefficients to the steady brush (:mod:`tire_brush.mf_fit`), writes the
+``.tir`` file (ISO-W, as MF readers expect; :mod:`tire_brush.tir`) and prints the fit error per
+channel (RMS and largest ``|MF - brush| / Fz``) and the load dependence of brush and MF;
+``--points`` writes the fit points with the brush's and the MF's forces in the ``--axes``
+convention.
 """
 
 from __future__ import annotations
@@ -19,8 +29,17 @@ import argparse
 
 import numpy as np
 
-from lookup.cli import dump_json, parse_float, parse_float_list, print_table
+from lookup.cli import (
+    dump_json,
+    parse_float,
+    parse_float_list,
+    parse_quantity_option,
+    parse_temperature_option,
+    print_table,
+)
 from lookup.errors import InputError
+
+from .axes import AXES, BRUSH_AXES, SlipInputs, Wrench, convert_inputs, convert_wrench
 
 KEYS = ("kappa", "alpha", "Fx", "Fy", "Mz", "mu_eff", "mu_slide", "sliding_fraction",
         "dT_flash_max")
@@ -79,9 +98,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                                            "negative start: --alpha-deg=-10:10:21")
     c.add_argument("--n-elements", type=int, default=None,
                    help="cells along the patch (default: the steady model's default)")
+    c.add_argument("--axes", choices=AXES, default=BRUSH_AXES,
+                   help="sign convention of --alpha-deg and of the printed forces (default "
+                        "adapted-sae, the brush model's; iso-v = iso-w at zero steer angle)")
     c.add_argument("--json", action="store_true", help="print JSON with a list 'points'")
     c.add_argument("--plot", metavar="FILE.png", help="write a plot of the curve")
     c.set_defaults(func=_run_curve)
+    _register_fit_mf(ts)
 
 
 def _run_curve(args: argparse.Namespace) -> int:
@@ -114,19 +137,174 @@ def _run_curve(args: argparse.Namespace) -> int:
     tire = load_tire(args.tire)
     friction = load_friction(args.grid)
     model = SteadyBrush(tire, friction, n_elements=n)
-    out = model.solve(kappa, alpha, vx, Fz, T_C + 273.15)
-    rows = [{k: float(np.asarray(getattr(out, k))[i]) for k in KEYS} for i in range(kappa.size)]
+    # the slip angle is given in --axes; the brush works in its own convention
+    alpha_brush = convert_inputs(SlipInputs(kappa, alpha, vx, 0.0), args.axes, BRUSH_AXES).alpha
+    out = model.solve(kappa, alpha_brush, vx, Fz, T_C + 273.15)
+    w = convert_wrench(Wrench(out.Fx, out.Fy, Fz, 0.0, 0.0, out.Mz), BRUSH_AXES, args.axes)
+    values = {k: np.asarray(getattr(out, k)) for k in KEYS}
+    values.update(alpha=np.broadcast_to(alpha, kappa.shape), Fx=np.asarray(w.Fx),
+                  Fy=np.asarray(w.Fy), Mz=np.asarray(w.Mz))
+    rows = [{k: float(values[k][i]) for k in KEYS} for i in range(kappa.size)]
     if args.plot:
         _plot(args.plot, rows, "kappa" if args.kappa is not None else "alpha", tire.name,
               Fz, vx, T_C)
     if args.json:
         dump_json({"tire": tire.name, "friction": friction.describe(), "Fz_N": Fz,
-                   "vx_m_s": vx, "T_C": T_C, "n_elements": n, "points": rows})
+                   "vx_m_s": vx, "T_C": T_C, "n_elements": n, "axes": args.axes,
+                   "points": rows})
     else:
         print(f"# tire {tire.name}, Fz = {Fz:g} N, vx = {vx:g} m/s, T = {T_C:g} C, "
-              f"{n} cells")
+              f"{n} cells, axes {args.axes}")
         print_table(rows, KEYS)
     return 0
+
+
+# -- tirefric tire fit-mf ---------------------------------------------------------------------
+def _register_fit_mf(ts: argparse._SubParsersAction) -> None:
+    f = ts.add_parser("fit-mf", help="fit Magic Formula 6.1 / PAC2002 coefficients to the "
+                                     "steady brush and write a .tir file",
+                      description="Fit MF 6.1 / PAC2002 coefficients (pure and combined "
+                                  "slip, load dependence) to the steady brush model at one "
+                                  "temperature and speed and write a TYDEX .tir file (ISO-W).")
+    f.add_argument("--tire", default="passenger",
+                   help="tire TOML file or shipped name (default passenger)")
+    f.add_argument("--grid", default="default",
+                   help="grid file, shipped grid name (default), or constant:MU[,MU_HOT]")
+    f.add_argument("--T", required=True, help="background temperature [Celsius]")
+    f.add_argument("--vx", required=True, help="forward speed of the fit [m/s] (> 0)")
+    f.add_argument("-o", "--output", required=True, metavar="FILE.tir",
+                   help="the .tir file to write")
+    f.add_argument("--loads", default="0.5,1,1.5",
+                   help="loads of the fit as multiples of the nominal load (default "
+                        "0.5,1,1.5)")
+    f.add_argument("--fittyp", type=int, choices=(61, 6), default=61,
+                   help="FITTYP written: 61 (MF 6.1, default) or 6 (PAC2002); same "
+                        "coefficients")
+    f.add_argument("--size", help="size designation, e.g. '205/55 R16' (default: read from "
+                                  "the tire file's description)")
+    f.add_argument("--pressure", help="inflation pressure written to the file, e.g. "
+                                      "'230 kPa' (default: read from the tire file's "
+                                      "description; no coefficient depends on it)")
+    f.add_argument("--axes", choices=AXES, default="iso-w",
+                   help="sign convention of --points (the .tir file is always ISO-W)")
+    f.add_argument("--points", metavar="FILE.csv",
+                   help="write the fit points: brush and MF forces in --axes")
+    f.add_argument("--json", action="store_true", help="print the result as JSON")
+    f.set_defaults(func=_run_fit_mf)
+
+
+def _run_fit_mf(args: argparse.Namespace) -> int:
+    from lookup import __version__
+
+    from .mf_fit import CHANNELS, FitSettings, fit_mf
+    from .params import load_tire
+    from .steady import N_STEADY, TOL, SteadyBrush
+    from .tir import parse_pressure_bar, parse_size, tir_text, write_tir
+
+    T_K = parse_temperature_option(args.T, "--T")
+    vx = parse_float(args.vx, "--vx")
+    if vx <= 0:
+        raise InputError("forward speed must be > 0 m/s", source="--vx", value=args.vx)
+    loads = tuple(parse_float_list(args.loads, "--loads"))
+    try:
+        settings = FitSettings(loads=loads)
+    except InputError as exc:
+        raise InputError(exc.message, source="--loads", value=args.loads) from None
+    tire = load_tire(args.tire)
+    size = parse_size(args.size if args.size else tire.description,
+                      "--size" if args.size else f"{tire.source} description")
+    pressure = (parse_quantity_option(args.pressure, "--pressure", "pressure", "Pa")
+                if args.pressure else parse_pressure_bar(tire.description,
+                                                         f"{tire.source} description"))
+    if not pressure > 0:
+        raise InputError("must be > 0", source="--pressure", value=args.pressure)
+    if max(loads) * tire.Fz_nom > tire.patch.Fz_max:
+        raise InputError(f"the largest load {max(loads) * tire.Fz_nom:g} N is above the "
+                         f"tire's patch-law limit Fz_max = {tire.patch.Fz_max:g} N",
+                         source="--loads", value=args.loads)
+    friction = load_friction(args.grid)
+    model = SteadyBrush(tire, friction)
+    fit = fit_mf(model, vx, T_K, settings)
+    fdesc = friction.describe()
+    grid_meta = fdesc.get("grid", {})
+    road = (f"compound {grid_meta.get('compound_name', '?')} on surface "
+            f"{grid_meta.get('surface_name', '?')}, grid hash {grid_meta.get('hash', '?')}"
+            if fdesc.get("kind") == "grid" else
+            f"constant friction mu_cold = {fdesc.get('mu_cold')}, mu_hot = "
+            f"{fdesc.get('mu_hot')}")
+    T_C = T_K - 273.15
+    F = np.asarray(loads) * tire.Fz_nom
+    provenance = [
+        f"Magic Formula {'6.1' if args.fittyp == 61 else 'PAC2002'} fit of the tirefric "
+        f"{__version__} steady brush model",
+        f"(tire_brush.steady: {N_STEADY} cells, tolerance {TOL:g}; tire_brush.mf_fit).",
+        f"Tire: {tire.name} ({tire.description})",
+        f"Road: {road} (--grid {args.grid})",
+        f"Background temperature T = {T_C:g} C; speed vx = {vx:g} m/s; loads "
+        + ", ".join(f"{x:g}" for x in F) + " N.",
+        "Fit error |MF - brush| / Fz (forces [1], Mz [m]), RMS / max:",
+        *[f"  {ch}: {fit.errors[ch]['rms']:.4g} / {fit.errors[ch]['max']:.4g}"
+          for ch in CHANNELS],
+        "No camber, pressure, turn-slip, rolling-resistance or overturning model: those",
+        "coefficients are 0 (CAMMIN = CAMMAX = 0). Shifts are 0: the brush is symmetric in alpha.",
+        *([f"On a bound of the fit (the MF form cannot follow the brush): "
+           f"{', '.join(fit.at_bounds)}."] if fit.at_bounds else []),
+    ]
+    s = fit.settings
+    ranges = {"KPUMIN": -s.kappa_max, "KPUMAX": s.kappa_max,
+              "ALPMIN": -np.radians(s.alpha_max_deg), "ALPMAX": np.radians(s.alpha_max_deg),
+              "FZMIN": float(F.min()), "FZMAX": float(F.max())}
+    text = tir_text(fit.coefficients, fittyp=args.fittyp, size=size, pressure=pressure,
+                    vertical_stiffness=tire.patch.C_z, vx=vx, ranges=ranges,
+                    provenance=provenance)
+    write_tir(args.output, text)
+    if args.points:
+        _write_points(args.points, fit, args.axes)
+    if args.json:
+        dump_json({"tire": tire.name, "friction": fdesc, "T_C": T_C, "vx_m_s": vx,
+                   "loads_N": F.tolist(), "fittyp": args.fittyp, "output": args.output,
+                   "tir_axes": "iso-w", "coefficients": fit.coefficients,
+                   "fitted": fit.fitted, "at_bounds": fit.at_bounds, "errors": fit.errors,
+                   "load_dependence": fit.load_dependence,
+                   "points_axes": args.axes if args.points else None})
+        return 0
+    print(f"# wrote {args.output} (FITTYP {args.fittyp}, ISO-W): tire {tire.name}, "
+          f"T = {T_C:g} C, vx = {vx:g} m/s")
+    print("# fit error |MF - brush| / Fz (forces [1], Mz [m])")
+    print_table([{"channel": ch, **{k: fit.errors[ch][k] for k in ("rms", "max", "max_abs",
+                                                                    "n")}}
+                 for ch in CHANNELS], ("channel", "rms", "max", "max_abs", "n"))
+    if fit.at_bounds:
+        print(f"# on a bound of the fit (the MF form cannot follow the brush): "
+              f"{', '.join(fit.at_bounds)}")
+    print("# load dependence, brush against MF: slip stiffness / Fz [1], peak mu [1], "
+          "pneumatic trail at small alpha [m]")
+    cols = [f"{row['Fz_N']:g} N" for row in fit.load_dependence]
+    print_table([{"quantity": key, **{c: row[key] for c, row in
+                                     zip(cols, fit.load_dependence, strict=True)}}
+                 for key in list(fit.load_dependence[0])[1:]], ("quantity", *cols))
+    return 0
+
+
+def _write_points(path: str, fit, axes: str) -> None:
+    """The fit points with the brush's and the MF's forces in ``axes`` (CSV)."""
+    import csv
+
+    p = fit.points
+    inp = convert_inputs(SlipInputs(p.kappa, p.alpha, 1.0, 0.0), "iso-w", axes)
+    brush = convert_wrench(Wrench(p.Fx, p.Fy, p.Fz, 0.0, 0.0, p.Mz), "iso-w", axes)
+    mfw = convert_wrench(Wrench(fit.mf["Fx"], fit.mf["Fy"], p.Fz, 0.0, 0.0, fit.mf["Mz"]),
+                         "iso-w", axes)
+    cols = {"kind": p.kind, "kappa": inp.kappa, "alpha_rad": inp.alpha, "Fz_N": brush.Fz,
+            "Fx_brush_N": brush.Fx, "Fy_brush_N": brush.Fy, "Mz_brush_Nm": brush.Mz,
+            "Fx_mf_N": mfw.Fx, "Fy_mf_N": mfw.Fy, "Mz_mf_Nm": mfw.Mz}
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow([f"# axes: {axes}"])
+        w.writerow(list(cols))
+        for i in range(p.kappa.size):
+            w.writerow([cols["kind"][i], *(repr(float(np.asarray(v)[i]))
+                                          for k, v in cols.items() if k != "kind")])
 
 
 def _plot(path: str, rows: list[dict], sweep: str, tire: str, Fz: float, vx: float,
