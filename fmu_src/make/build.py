@@ -86,14 +86,21 @@ class BuildOptions:
         Blending length of eq. (28) [m]; None: the grid's ``s0_m``.
     v_floor : float
         Speed floor of the reported slips [m/s].
+    axes : int
+        Axis system of vy, Fy, Mz and alpha (:data:`fmu_src.runtime.interface.OPTIONS`):
+        0 adapted SAE (the brush's own), 1 ISO-W, 2 SAE.
     """
 
     n_elements: int = N_TRANSIENT
     dt_internal: float = DT_INTERNAL
     s0: float | None = None
     v_floor: float = V_FLOOR
+    axes: int = 0
 
     def __post_init__(self) -> None:
+        if isinstance(self.axes, bool) or self.axes not in (0, 1, 2):
+            raise InputError("must be 0 (adapted SAE), 1 (ISO-W) or 2 (SAE)", field="axes",
+                             value=self.axes)
         if isinstance(self.n_elements, bool) or not isinstance(self.n_elements, int) or \
                 self.n_elements < 2:
             raise InputError("must be an integer >= 2", field="n_elements",
@@ -292,7 +299,7 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
                  "npz_sha256": "sha256:" + hashlib.sha256(npz).hexdigest(),
                  "meta": _grid_provenance(grid)},
         "options": {"n_elements": options.n_elements, "dt_internal": options.dt_internal,
-                    "s0": s0, "v_floor": options.v_floor},
+                    "s0": s0, "v_floor": options.v_floor, "axes": options.axes},
         "limits": default_limits(tire),
         "requirements": list(REQUIREMENTS),
     }

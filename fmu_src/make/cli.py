@@ -32,6 +32,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--s0", default=None,
                    help="start value of s0, the blending length of eq. (28) [m] (default: "
                         "the grid's)")
+    b.add_argument("--axes", choices=("adapted-sae", "iso-w", "sae"), default=None,
+                   help="start value of the axes parameter, the axis system of vy, Fy, Mz and "
+                        "alpha (default: adapted-sae, the brush's own; docs/axes.md)")
     b.add_argument("--native", action="store_true",
                    help="build the Python-free flavour: the C core with an FMI 2.0 wrapper "
                         "(binaries for linux64, and win64 where a cross-compiler is found: "
@@ -56,6 +59,10 @@ def _run_build(args: argparse.Namespace) -> int:
         kw["dt_internal"] = parse_float(args.dt_internal, "--dt-internal")
     if args.s0 is not None:
         kw["s0"] = parse_float(args.s0, "--s0")
+    if args.axes is not None:
+        from fmu_src.runtime.interface import AXES_OPTION
+
+        kw["axes"] = AXES_OPTION.index(args.axes)
     report = build_fmu(args.tire, args.grid, args.output, BuildOptions(**kw),
                        native=args.native)
     if args.json:

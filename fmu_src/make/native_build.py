@@ -243,7 +243,7 @@ def config_header(vars_: list[Variable], guid: str) -> str:
              "R_E": index["tire.R_e"], "FZ_NOM": index["tire.Fz_nom"],
              "FZ_MAX": index["tire.patch.Fz_max"], "N_ELEMENTS": index["n_elements"],
              "DT_INTERNAL": index["dt_internal"], "S0": index["s0"],
-             "V_FLOOR": index["v_floor"]}
+             "V_FLOOR": index["v_floor"], "AXES": index["axes"]}
     named |= {"LIMIT_" + k[6:].upper(): index[k] for k in LIMITS}
     defines = [f"#define TFN_VR_{k} {i}" for k, i in named.items()]
     return "\n".join([

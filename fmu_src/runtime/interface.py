@@ -26,6 +26,7 @@ import math
 from dataclasses import dataclass, fields
 from typing import Any
 
+from tire_brush.axes import BRUSH_AXES, SIGNS
 from tire_brush.params import (
     CarcassParams,
     PatchLaw,
@@ -119,7 +120,8 @@ class Variable:
 #: Inputs in order: name, unit, start (None: the tire's nominal load), description.
 INPUTS: tuple[tuple[str, str, float | None, str], ...] = (
     ("vx", "m/s", 0.0, "Wheel-centre velocity in the wheel plane (longitudinal) [m/s]"),
-    ("vy", "m/s", 0.0, "Wheel-centre velocity lateral to the wheel plane [m/s]"),
+    ("vy", "m/s", 0.0, "Wheel-centre velocity lateral to the wheel plane [m/s] (along y of "
+                       "the axis system of parameter axes)"),
     ("omega", "rad/s", 0.0, "Wheel spin [rad/s]; the rolling speed is omega * tire.R_e"),
     ("Fz", "N", None, "Vertical load [N]; Fz <= 0 is lift-off (no forces)"),
     ("T_surface", "K", 293.15,
@@ -132,10 +134,12 @@ INPUTS: tuple[tuple[str, str, float | None, str], ...] = (
 #: description.
 OUTPUTS: tuple[tuple[str, str, str], ...] = (
     ("Fx", "N", "Longitudinal force on the tire from the road [N] (braking: Fx < 0)"),
-    ("Fy", "N", "Lateral force on the tire from the road [N]"),
-    ("Mz", "N.m", "Aligning moment about the vertical axis through the patch centre [N.m]"),
+    ("Fy", "N", "Lateral force on the tire from the road [N] (axis system of parameter axes)"),
+    ("Mz", "N.m", "Aligning moment about the vertical axis through the patch centre [N.m] "
+                  "(axis system of parameter axes)"),
     ("kappa", "1", "Longitudinal slip [1] (reported, with the speed floor v_floor)"),
-    ("alpha", "rad", "Slip angle [rad] (reported, with the speed floor v_floor)"),
+    ("alpha", "rad", "Slip angle [rad] (reported, with the speed floor v_floor; sign of the "
+                     "axis system of parameter axes)"),
     ("mu_eff", "1", "Utilised friction |F| / Fz [1] (0 without load)"),
     ("mu_slide", "1",
      "Pressure-weighted mean friction coefficient (eq. 28) of the sliding elements [1]"),
@@ -166,7 +170,29 @@ OPTIONS: dict[str, tuple[str, str | None, str]] = {
     "s0": ("Real", "m", "Blending slip length s0 of eq. (28) [m] (cold to hot friction); "
                         "start value from the grid (0.2 D)"),
     "v_floor": ("Real", "m/s", "Speed floor of the reported kappa and alpha [m/s]"),
+    "axes": ("Integer", None, "Axis system of vy, Fy, Mz and alpha (docs/axes.md): 0 Pacejka's "
+                              "adapted SAE (alpha > 0 gives Fy > 0, Mz < 0), 1 ISO-W (ISO 8855 "
+                              "wheel axes, TYDEX W: y left, z up), 2 SAE J670 (y right, z "
+                              "down); Fx, kappa and the load keep their sign in all three"),
 }
+
+#: The axis systems of the ``axes`` option, by value.
+AXES_OPTION: tuple[str, ...] = ("adapted-sae", "iso-w", "sae")
+
+
+def axis_signs(axes: int) -> dict[str, int]:
+    """Factors taking ``vy``, ``Fy``, ``Mz`` and ``alpha`` from the brush model's own
+    convention (Pacejka's adapted SAE) into the FMU's ``axes`` (and back: each is +-1).
+
+    Raises
+    ------
+    ValueError
+        ``axes`` is not 0, 1 or 2.
+    """
+    if isinstance(axes, bool) or axes not in range(len(AXES_OPTION)):
+        raise ValueError(f"axes = {axes!r} must be 0 (adapted SAE), 1 (ISO-W) or 2 (SAE)")
+    to, frm = SIGNS[AXES_OPTION[int(axes)]], SIGNS[BRUSH_AXES]
+    return {q: to[q] * frm[q] for q in ("vy", "Fy", "Mz", "alpha")}
 
 #: Input envelope (:mod:`fmu_src.runtime.guard`): name -> (unit, description). Start values
 #: come from :func:`default_limits`.
@@ -193,7 +219,7 @@ INFO: dict[str, str] = {
 #: listed are zero before the first step (undeflected tire) and depend on nothing.
 INITIAL_DEPENDENCIES: dict[str, tuple[str, ...]] = {
     "kappa": ("vx", "omega", "tire.R_e", "v_floor", "limit.v", "limit.omega"),
-    "alpha": ("vx", "vy", "v_floor", "limit.v"),
+    "alpha": ("vx", "vy", "v_floor", "limit.v", "axes"),
     "T_tread": ("T_surface", "limit.T_min", "limit.T_max"),
     "input_status": ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "limit.v",
                      "limit.omega", "limit.Fz", "limit.T_min", "limit.T_max",

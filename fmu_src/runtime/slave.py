@@ -69,6 +69,7 @@ try:
         STATUS_BITS,
         TIRE_FIELDS,
         Variable,
+        axis_signs,
         tire_from_parameters,
         variables,
     )
@@ -163,6 +164,7 @@ class BrushTireSlave(Fmi2Slave):
         self._model: TransientBrushTire | None = None
         self._guard: InputGuard | None = None
         self._model_key = ""
+        self._signs = {"vy": 1, "Fy": 1, "Mz": 1, "alpha": 1}
         for i, v in enumerate(self._vars):
             self.register_variable(self._fmi_variable(v, i, info))
 
@@ -176,7 +178,7 @@ class BrushTireSlave(Fmi2Slave):
                       getter=lambda: self._u[i], setter=lambda x: self._u.__setitem__(i, x))
         elif v.causality == "output" and v.type == "Real":
             kw.update(variability=Fmi2Variability.continuous, initial=Fmi2Initial.calculated,
-                      getter=lambda: getattr(self._out, v.name))
+                      getter=lambda: self._signs.get(v.name, 1) * getattr(self._out, v.name))
         elif v.causality == "output":
             kw.update(variability=Fmi2Variability.discrete, initial=Fmi2Initial.calculated,
                       getter=lambda: self._status)
@@ -244,6 +246,7 @@ class BrushTireSlave(Fmi2Slave):
         x, status, messages = guard.apply(self._u)
         for level, text in messages:
             self.log(f"t = {current_time:.6g} s: {text}", Fmi2Status(level))
+        x = self._to_model(x)
         try:
             out = model.step(step_size, *x)
             ok = all(map(math.isfinite, out.__dict__.values()))
@@ -277,7 +280,15 @@ class BrushTireSlave(Fmi2Slave):
                                          dt_internal=float(p["dt_internal"]),
                                          v_floor=float(p["v_floor"]))
         self._guard = InputGuard({k: float(p[k]) for k in LIMITS}, self._u_start)
+        axes = p["axes"]
+        if isinstance(axes, float) and axes.is_integer():
+            axes = int(axes)
+        self._signs = axis_signs(axes)
         self._model_key = json.dumps(p, sort_keys=True)
+
+    def _to_model(self, x: list[float]) -> list[float]:
+        """Guarded inputs in the brush model's axes (``vy`` by the ``axes`` parameter)."""
+        return [x[0], self._signs["vy"] * x[1], *x[2:]]
 
     def _initial_outputs(self, x: list[float] | None = None) -> None:
         """Outputs of the undeflected tire at inputs ``x`` (default: the current inputs,
@@ -286,6 +297,7 @@ class BrushTireSlave(Fmi2Slave):
             x, self._status, messages = self._guard.apply(self._u)
             for level, text in messages:
                 self.log(f"initialization: {text}", Fmi2Status(level))
+            x = self._to_model(x)
         vx, vy, omega, _, T_surface, _ = x
         model = self._model
         kappa, alpha = slip_from_kinematics(vx, vy, omega, model.params.R_e, model.v_floor)

@@ -244,6 +244,11 @@ static int check_params(comp *c, const double *v) {
               v[TFN_VR_FZ_NOM], v[TFN_VR_FZ_MAX]);
         bad++;
     }
+    if (!(v[TFN_VR_AXES] == 0.0 || v[TFN_VR_AXES] == 1.0 || v[TFN_VR_AXES] == 2.0)) {
+        logf_(c, fmi2Error, "axes = %g must be 0 (adapted SAE), 1 (ISO-W) or 2 (SAE)",
+              v[TFN_VR_AXES]);
+        bad++;
+    }
     if (!(v[TFN_VR_N_ELEMENTS] >= 2.0)) {
         logf_(c, fmi2Error, "n_elements = %g must be >= 2", v[TFN_VR_N_ELEMENTS]);
         bad++;
@@ -369,7 +374,25 @@ static void guard_reset(comp *c) {
     memset(c->active, 0, sizeof c->active);
 }
 
-/* Outputs of the undeflected tire at guarded inputs x (tire_brush.slip.slip_from_kinematics). */
+/* Factor taking vy, Fy, Mz and alpha between the brush's axes (Pacejka's adapted SAE) and
+ * those of parameter axes (fmu_src/runtime/interface.py, axis_signs): 0 adapted SAE (all +1),
+ * 1 ISO-W (vy, Fy, Mz flip; alpha keeps its sign), 2 SAE (alpha flips). */
+static double axis_sign(const comp *c, int quantity) {
+    int axes = (int)c->v[TFN_VR_AXES];
+    if (axes == 1) return quantity == 3 ? 1.0 : -1.0;   /* 0 vy, 1 Fy, 2 Mz, 3 alpha */
+    if (axes == 2) return quantity == 3 ? -1.0 : 1.0;
+    return 1.0;
+}
+
+/* Outputs in the brush's axes o[] to those of parameter axes. */
+static void outputs_to_axes(const comp *c, double *o) {
+    o[1] *= axis_sign(c, 1);
+    o[2] *= axis_sign(c, 2);
+    o[4] *= axis_sign(c, 3);
+}
+
+/* Outputs of the undeflected tire at guarded inputs x in the brush's axes
+ * (tire_brush.slip.slip_from_kinematics). */
 static void initial_outputs(comp *c, const double *x) {
     double *o = c->v + TFN_VR_OUTPUT0;
     double vx = x[0], vy = x[1], omega = x[2];
@@ -380,6 +403,7 @@ static void initial_outputs(comp *c, const double *x) {
     o[3] = kappa;
     o[4] = atan2(-vy, ref);
     o[9] = x[4];
+    outputs_to_axes(c, o);
 }
 
 static int build_model(comp *c) {
@@ -501,6 +525,7 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component comp_) {
     if (c->phase != PH_INIT) return wrong_phase(c, "fmi2ExitInitializationMode");
     if (build_model(c) != 0) return fmi2Error;
     int st = guard_apply(c, c->v + TFN_VR_INPUT0, x, "initialization");
+    x[1] *= axis_sign(c, 0);
     initial_outputs(c, x);
     c->v[TFN_VR_STATUS] = st;
     c->phase = PH_STEP;
@@ -650,10 +675,12 @@ fmi2Status fmi2DoStep(fmi2Component comp_, fmi2Real t, fmi2Real h, fmi2Boolean n
     char when[64];
     snprintf(when, sizeof when, "t = %.6g s", t);
     int st = guard_apply(c, c->v + TFN_VR_INPUT0, x, when);
+    x[1] *= axis_sign(c, 0);
     int ok = tf_tire_step(c->tire, h, x, out) == 0;
     for (int k = 0; ok && k < TF_NOUT; k++) ok = isfinite(out[k]);
     c->time = t + h;
     if (ok) {
+        outputs_to_axes(c, out);
         memcpy(c->v + TFN_VR_OUTPUT0, out, sizeof out);
         c->v[TFN_VR_STATUS] = st;
         return st ? fmi2Warning : fmi2OK;
