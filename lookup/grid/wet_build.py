@@ -70,10 +70,14 @@ def wet_slice(model, v: float, T: np.ndarray, p: np.ndarray, t_drain: np.ndarray
                 break
         if i == 0:
             continue
-        for k, t in enumerate(t_drain):
-            model.at(i, t_contact=float(t))
-            model.cold(v, TT, PP)
-            out["w_dry"][i, k] = model.last_w.reshape(TT.shape)
+        # one cold evaluation; the other drainage times reuse its separation law
+        model.at(i, t_contact=float(t_drain[0]))
+        model.cold(v, TT, PP)
+        if model.lubricant.adhesion:
+            w = model.dry_shares(t_drain)
+        else:  # soapy water: no adhesive term at any time
+            w = np.zeros((t_drain.size, TT.size))
+        out["w_dry"][i] = w.reshape(t_drain.size, *TT.shape)
     return out
 
 

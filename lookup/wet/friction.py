@@ -101,6 +101,7 @@ class WetPerssonFriction(PerssonFriction):
         self.sealed = SealedSpectrum(self.surface.psd, self.q, self.depths, self.sealing, hm)
         self.depth_index = 0
         self.last_w = np.zeros(0)
+        self.last_squeeze: tuple | None = None
 
     def at(self, depth_index: int, t_contact: float | None = None,
            adhesive_weight: float | None = None) -> WetPerssonFriction:
@@ -112,6 +113,7 @@ class WetPerssonFriction(PerssonFriction):
                              value=t_contact)
         self.depth_index, self.t_contact = depth_index, t_contact
         self.adhesive_weight = adhesive_weight
+        self.last_squeeze = None
         self._kernels = {}
         return self
 
@@ -131,10 +133,9 @@ class WetPerssonFriction(PerssonFriction):
 
     def _evaluate(self, v: np.ndarray, T0: np.ndarray, sigma0: np.ndarray,
                   dT: np.ndarray | None) -> dict[str, np.ndarray]:
-        dry = super()._evaluate(v, T0, sigma0, dT)
         if self.depth == 0.0:
             self.last_w = np.ones(v.size)
-            return dry
+            return super()._evaluate(v, T0, sigma0, dT)
         if dT is None:
             la = np.broadcast_to(self.compound.log10_aT(T0)[:, None], (T0.size, self.q.size))
             T_surf = T0
@@ -177,8 +178,9 @@ class WetPerssonFriction(PerssonFriction):
         P_m = P[:, i - 1] + f * (P[:, i] - P[:, i - 1])
         w = self._weight(v, T0, sigma0, F_wet, c_area * G, P_m)
         self.last_w = w
-        # real (rubber-road) contact: the dry one (module docstring, item 1)
-        area = np.minimum(dry["area"], P[:, -1])
+        # real (rubber-road) contact: the dry one (module docstring, item 1); P_dry[:, -1] is
+        # the dry engine's area (same G, same operations), so no second dry evaluation
+        area = np.minimum(P_dry[:, -1], P[:, -1])
         mu_cont = w * self.compound.adhesion.sigma_f(v, T_surf) * area / sigma0
         return {"mu_visc": contrib.sum(axis=1), "mu_cont": mu_cont, "area": area,
                 "dmu_w": dmu_w, "P_m": P_m}
@@ -199,7 +201,20 @@ class WetPerssonFriction(PerssonFriction):
         u = mean_separation(S_NODES, self.q, F, G, self.i_m, sigma0, P_m,
                             self.settings.gamma)
         R = 0.5 * self.D if self.drainage_radius is None else self.drainage_radius
-        return dry_share(t, self.lubricant.viscosity(T0), R, sigma0, P_m, u)
+        self.last_squeeze = (self.lubricant.viscosity(T0), R, sigma0, P_m, u)
+        return dry_share(t, *self.last_squeeze)
+
+    def dry_shares(self, t_contact: np.ndarray) -> np.ndarray:
+        """Dry share w at other available times [s] for the points of the last squeeze-out
+        evaluation (``last_squeeze``): shape (len(t_contact), points). Only the time changes,
+        so the separation law u is reused (:func:`lookup.wet.squeeze.dry_share` with the same
+        arguments: the values equal a new evaluation at each time)."""
+        if getattr(self, "last_squeeze", None) is None:
+            raise InputError("no squeeze-out evaluated yet (call cold() with a wet depth "
+                             "node first)", field="t_contact")
+        n = self.last_squeeze[2].size
+        return np.stack([dry_share(np.full(n, float(t)), *self.last_squeeze)
+                         for t in np.atleast_1d(np.asarray(t_contact, float))])
 
     def wet_table(self, v: Any, T0: float, sigma0: float) -> dict[str, np.ndarray]:
         """Cold and hot branch with the squeeze-out weight (columns of ``tirefric mu --water``).

@@ -33,6 +33,61 @@ def register(sub: argparse._SubParsersAction, simulator_factory=None) -> None:
     s.add_argument("--json", action="store_true",
                    help="print the results document (as results.json) on stdout")
     s.set_defaults(func=_run_study, simulator_factory=simulator_factory)
+    w = abs_sub.add_parser(
+        "wet-grip", help="UN R117 / ISO 23671 wet-grip test: BFC, G and label class",
+        description="The wet-grip braking test of UN R117 Annex 5 / ISO 23671 on the brush "
+                    "tire: ABS braking 80 -> 20 km/h on the wet reference road (BFC), the "
+                    "trailer method's peak Fx/Fz at 65 km/h, the wet grip index G against the "
+                    "reference tire (SRTT) and the EU label class; wet and dry.")
+    w.add_argument("--tire", default="passenger", metavar="NAME",
+                   help="candidate tire (TOML file or shipped name; default passenger)")
+    w.add_argument("--reference", default=None, metavar="NAME",
+                   help="reference tire (default: the spec's, srtt)")
+    w.add_argument("--spec", default="wet_grip", metavar="SPEC.toml",
+                   help="test spec (default models/studies/wet_grip.toml)")
+    w.add_argument("--temperature", type=float, default=None, metavar="C",
+                   help="wetted-surface temperature [C] (default: the spec's, 20)")
+    w.add_argument("--water-depth", type=float, default=None, metavar="MM",
+                   help="water film depth [mm] (default: the spec's, 1.0)")
+    w.add_argument("--json", action="store_true", help="print the results as JSON")
+    w.add_argument("--plot", metavar="FILE.png", default=None,
+                   help="mu dry/wet against speed, deceleration and distance against time")
+    w.set_defaults(func=_run_wet_grip)
+
+
+def _run_wet_grip(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    from lookup.cli import dump_json
+
+    from .wet_grip_test import load_wet_grip_spec, plot_wet_grip, run_wet_grip
+
+    spec = load_wet_grip_spec(args.spec)
+    if args.reference is not None:
+        spec = dataclasses.replace(spec, reference_tire=args.reference)
+    depth = None if args.water_depth is None else args.water_depth * 1e-3
+    doc, runs = run_wet_grip(spec, args.tire, args.temperature, depth)
+    if args.plot:
+        plot_wet_grip(doc, runs, args.plot, doc["T_C"] + 273.15)
+        doc["plot"] = args.plot
+    if args.json:
+        dump_json(doc)
+        return 0
+    c, r = doc["candidate"], doc["reference"]
+    print(f"# wet grip test (UN R117 Annex 5 / ISO 23671) on grid {doc['road_grid']}, "
+          f"water {doc['water_depth_m'] * 1e3:g} mm, {doc['T_C']:g} C")
+    print(f"# {'tire':>12s} {'BFC wet':>8s} {'BFC dry':>8s} {'peak wet':>9s} {'peak dry':>9s}"
+          "   (BFC 80->20 km/h; peak Fx/Fz at 65 km/h)")
+    for row in (c, r):
+        print(f"  {row['tire']:>12s} {row['bfc_wet']:8.3f} {row['bfc_dry']:8.3f} "
+              f"{row['peak_wet']:9.3f} {row['peak_dry']:9.3f}")
+    print(f"G = {doc['G']:.3f} (trailer method {doc['G_trailer']:.3f}), EU label class "
+          f"{doc['label_class']}; reference windows BFC 0.57-0.79: "
+          f"{'in' if doc['reference_in_windows']['bfc'] else 'OUT'}, peak 0.65-0.90: "
+          f"{'in' if doc['reference_in_windows']['peak'] else 'OUT'}")
+    for note in doc["notes"]:
+        print(f"# note: {note}")
+    return 0
 
 
 def _run_study(args: argparse.Namespace) -> int:
