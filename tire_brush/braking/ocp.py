@@ -70,6 +70,15 @@ class OCPSettings:
         a bound, iterates that lock a wheel (omega = 0 pinned by its bound, the brake torque
         then has no effect) are stationary points where IPOPT stalls; a bound active at the
         solution is reported (``OCPResult.kappa_bound_active``).
+    coarse_intervals : int
+        Mesh continuation: the problem is first solved on this many intervals from the
+        initial guess, and its solution starts the solve on ``intervals`` (0, or more than
+        half of ``intervals``: off). Measured on the brush-map study ``abs_default`` (200
+        intervals, one core): 2.7 s instead of 7-13 s at 0 C and 4.5 s instead of 11 s at
+        20 C, the same stopping distance to 1e-5 relative. Most of the cost of an IPOPT
+        iteration here is the repeated factorisation of the inertia correction, which the
+        coarse mesh makes 4x cheaper. When the coarse solve fails, the fine one starts from
+        the initial guess.
     """
 
     intervals: int = 200
@@ -78,6 +87,7 @@ class OCPSettings:
     tol: float = 1e-8
     max_iter: int = 500
     kappa_min: float | None = None
+    coarse_intervals: int = 50
 
     def __post_init__(self) -> None:
         if self.intervals < 5:
@@ -88,6 +98,9 @@ class OCPSettings:
                              value=self.degree)
         if self.kappa_min is not None and not -1.0 <= self.kappa_min < 0.0:
             raise InputError("must be in [-1, 0)", field="ocp.kappa_min", value=self.kappa_min)
+        if self.coarse_intervals < 0:
+            raise InputError("must be >= 0", field="ocp.coarse_intervals",
+                             value=self.coarse_intervals)
         if not (math.isfinite(self.rate_penalty) and self.rate_penalty >= 0):
             raise InputError("must be >= 0", field="ocp.rate_penalty", value=self.rate_penalty)
 
@@ -217,6 +230,11 @@ def solve_braking_ocp(
     if not 0 <= brake_torque_initial <= car.brake_torque_max:
         raise InputError("initial brake torque outside [0, brake_torque_max]",
                          field="brake_torque_initial", value=brake_torque_initial)
+    nc = settings.coarse_intervals
+    if 5 <= nc <= settings.intervals // 2:
+        return _solve_coarse_to_fine(car, force_map, v0, v_stop, T_ambient, settings,
+                                     brake_torque_initial, verbose, ipopt_options,
+                                     initial_guess)
     t_setup = time.perf_counter()
     N, d = settings.intervals, settings.degree
     R, Fz = car.radius, car.Fz
@@ -254,7 +272,10 @@ def solve_braking_ocp(
     vc, wc = Xc[1, :], Xc[2, :]
     kc = slip(vc, wc, R)
     Tc = Xc[4, :] if thermal else ca.DM.ones(1, N * d) * T_ambient
-    fmap = force_map.casadi_function().map(N * d)
+    # the load is fixed (and the temperature without the thermal state): an exact slice of
+    # the map has fewer spline axes, so fewer coefficients per evaluation (ForceMap.fixed)
+    fixed = {"Fz": Fz} if thermal else {"Fz": Fz, "T_K": T_ambient}
+    fmap = force_map.fixed(**fixed).casadi_function().map(N * d)
     muc = fmap(kc, vc, ca.DM.ones(1, N * d) * Fz, Tc)
 
     # one interval's collocation and continuity residuals, in scaled variables, as an SX
@@ -317,7 +338,7 @@ def solve_braking_ocp(
         opti.set_initial(tf, tf_guess)
     else:
         g = initial_guess
-        tf_sim = float(g.stop_time)
+        tf_sim = float(getattr(g, "stop_time", None) or g.final_time)
         if not 0.2 * tf_guess < tf_sim < 5.0 * tf_guess:
             raise InputError("the initial guess' stop time is outside the OCP's bounds on t_f",
                              field="initial_guess", value=tf_sim)
@@ -366,5 +387,36 @@ def solve_braking_ocp(
         setup_time_s=setup, iterations=int(stats.get("iter_count", -1)),
         status=str(stats.get("return_status", "")),
         kappa_bound=kappa_lo, kappa_bound_active=bool(kappa.min() < kappa_lo + 1e-4),
-        extra={"kappa_guess": k_star, "mu_guess": mu_star},
+        extra={"kappa_guess": k_star, "mu_guess": mu_star,
+               "t_wall": {k[7:]: float(v) for k, v in stats.items()
+                          if k.startswith("t_wall_") and isinstance(v, float)}},
     )
+
+
+def _solve_coarse_to_fine(car, force_map, v0, v_stop, T_ambient, settings,
+                          brake_torque_initial, verbose, ipopt_options, initial_guess
+                          ) -> OCPResult:
+    """``settings.coarse_intervals`` first, its solution as the fine solve's guess
+    (:class:`OCPSettings`); times and iterations of both are summed in the result."""
+    from dataclasses import replace
+
+    nc = settings.coarse_intervals
+    t0 = time.perf_counter()
+    try:
+        coarse = solve_braking_ocp(
+            car, force_map, v0, v_stop, T_ambient,
+            settings=replace(settings, intervals=nc, coarse_intervals=0),
+            brake_torque_initial=brake_torque_initial, ipopt_options=ipopt_options,
+            initial_guess=initial_guess)
+    except ConvergenceError as exc:
+        coarse, info = None, {"failed": str(exc)}
+    else:
+        info = {"iterations": coarse.iterations, "stopping_distance": coarse.stopping_distance}
+    info.update(intervals=nc, time_s=time.perf_counter() - t0)
+    fine = solve_braking_ocp(
+        car, force_map, v0, v_stop, T_ambient, settings=replace(settings, coarse_intervals=0),
+        brake_torque_initial=brake_torque_initial, verbose=verbose,
+        ipopt_options=ipopt_options, initial_guess=initial_guess if coarse is None else coarse)
+    return replace(fine, solve_time_s=fine.solve_time_s + info["time_s"],
+                   iterations=fine.iterations + (0 if coarse is None else coarse.iterations),
+                   extra=dict(fine.extra, coarse=info))

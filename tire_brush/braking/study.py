@@ -513,7 +513,8 @@ def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: S
             continue
         results[start] = res
         tried[start] = {"stopping_distance": res.stopping_distance,
-                        "iterations": res.iterations, "solve_time_s": res.solve_time_s}
+                        "iterations": res.iterations, "solve_time_s": res.solve_time_s,
+                        "setup_time_s": res.setup_time_s}
     if not results:
         raise ConvergenceError(f"case {case.label}: the braking OCP did not converge from any "
                                f"start: {tried}")
