@@ -652,13 +652,26 @@ def fmu_simulators(spec: StudySpec, work_dir: str | Path,
     return out
 
 
+def available_cores() -> int:
+    """Cores this process may run on (its CPU affinity where the platform has one)."""
+    import os
+
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:                     # not on Linux
+        return os.cpu_count() or 1
+
+
 def run_study(spec: StudySpec, scheduler: str | None = None, progress=None,
               work_dir: str | Path | None = None,
-              simulator_factory: Any = None) -> list[CaseResult | CaseFailure]:
-    """Run every case, locally in order or as Dask tasks on ``scheduler`` (an address).
+              simulator_factory: Any = None, jobs: int = 1) -> list[CaseResult | CaseFailure]:
+    """Run every case, locally or as Dask tasks on ``scheduler`` (an address).
 
-    A case that fails is returned as a :class:`CaseFailure` (with ``progress``, reported at
-    once) and the study goes on.
+    Locally the cases run in ``jobs`` processes at once (1: one after the other in this
+    process; 0: as many as :func:`available_cores`, at most one per case). A case is
+    independent of the others (its own force map, OCPs, simulations), so the results do not
+    depend on ``jobs``. A case that fails is returned as a :class:`CaseFailure` (with
+    ``progress``, reported at once) and the study goes on.
 
     ``simulator_factory`` builds the FMU simulators of a study with ``[study] fmu_abs``
     (:func:`fmu_simulators`; ``tirefric abs`` and the demo hand in
@@ -675,12 +688,17 @@ def run_study(spec: StudySpec, scheduler: str | None = None, progress=None,
         import tempfile
 
         with tempfile.TemporaryDirectory(prefix="tirefric_study_") as tmp:
-            return run_study(spec, scheduler, progress, tmp, simulator_factory)
+            return run_study(spec, scheduler, progress, tmp, simulator_factory, jobs)
     sims: dict[str, Any] = {}
     if spec.fmu_abs:
         if progress is not None:
             progress(f"FMU build into {work_dir}")
         sims = fmu_simulators(spec, work_dir, simulator_factory)
+    if jobs < 0:
+        raise InputError("must be >= 0 (0: all available cores)", field="jobs", value=jobs)
+    n_jobs = min(jobs or available_cores(), len(spec.cases))
+    if scheduler is None and n_jobs > 1:
+        return _run_parallel(spec, sims, progress, n_jobs)
     if scheduler is None:
         out = []
         for case in spec.cases:
@@ -698,6 +716,34 @@ def run_study(spec: StudySpec, scheduler: str | None = None, progress=None,
                                  pure=False)
                    for case in spec.cases]
         return client.gather(futures)
+
+
+def _run_parallel(spec: StudySpec, sims: dict[str, Any], progress, n_jobs: int
+                  ) -> list[CaseResult | CaseFailure]:
+    """The cases in ``n_jobs`` worker processes (spawned: a fresh interpreter each, nothing
+    of this process' solver or thread state is inherited); results in the cases' order."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    if progress is not None:
+        progress(f"{len(spec.cases)} case(s) in {n_jobs} processes")
+    with ProcessPoolExecutor(max_workers=n_jobs,
+                             mp_context=multiprocessing.get_context("spawn")) as pool:
+        futures = {pool.submit(run_case_or_failure, spec, case, sims.get(case.label)): i
+                   for i, case in enumerate(spec.cases)}
+        out: list[Any] = [None] * len(spec.cases)
+        for fut in as_completed(futures):
+            i = futures[fut]
+            case = spec.cases[i]
+            try:
+                r = fut.result()
+            except Exception as exc:  # the worker itself died: still one case only
+                r = CaseFailure(case=case, error=f"{type(exc).__name__}: {exc}")
+            out[i] = r
+            if progress is not None:
+                progress(f"case {case.label} FAILED: {r.error}" if isinstance(r, CaseFailure)
+                         else f"case {case.label} done")
+    return out
 
 
 # -- output ---------------------------------------------------------------------------------------
