@@ -79,6 +79,11 @@ class OCPSettings:
         iteration here is the repeated factorisation of the inertia correction, which the
         coarse mesh makes 4x cheaper. When the coarse solve fails, the fine one starts from
         the initial guess.
+    guess_smoothing : float
+        Window [s] over which a simulated initial guess is averaged (the ABS's cycles).
+    max_wall_time : float
+        IPOPT's wall-time limit per solve [s] (a start that wanders fails instead of holding
+        up the study; the coarse solve of the continuation gets a quarter of it).
     """
 
     intervals: int = 200
@@ -88,6 +93,8 @@ class OCPSettings:
     max_iter: int = 500
     kappa_min: float | None = None
     coarse_intervals: int = 50
+    guess_smoothing: float = 0.1
+    max_wall_time: float = 120.0
 
     def __post_init__(self) -> None:
         if self.intervals < 5:
@@ -98,6 +105,9 @@ class OCPSettings:
                              value=self.degree)
         if self.kappa_min is not None and not -1.0 <= self.kappa_min < 0.0:
             raise InputError("must be in [-1, 0)", field="ocp.kappa_min", value=self.kappa_min)
+        if not (self.guess_smoothing >= 0 and self.max_wall_time > 0):
+            raise InputError("need guess_smoothing >= 0 s and max_wall_time > 0 s",
+                             field="ocp", value=(self.guess_smoothing, self.max_wall_time))
         if self.coarse_intervals < 0:
             raise InputError("must be >= 0", field="ocp.coarse_intervals",
                              value=self.coarse_intervals)
@@ -344,8 +354,28 @@ def solve_braking_ocp(
                              field="initial_guess", value=tf_sim)
         cols = [g.x, g.v, g.omega, g.brake_torque] + ([g.T_tread] if thermal else [])
 
+        # a simulated ABS cycles at ~10 Hz: point samples on a coarse mesh catch random
+        # phases of the cycle (a wheel nearly locked at one node, rolling at the next), from
+        # which IPOPT needs huge Hessian corrections (measured: ~1 s per iteration at 50
+        # intervals, 0 C brush map). The guess is the trajectory averaged over a window of
+        # settings.guess_smoothing s. Other guesses (a locked wheel, an OCP solution such as
+        # the coarse one) are sampled at the nodes.
+        # a stop with release phases (code 2, abs_control.RELEASE): an ABS that cycled
+        cycling = np.any(np.asarray(getattr(g, "phase", [])) == 2)
+        win = max(settings.guess_smoothing, tf_sim / N) if cycling else 0.0
+
         def sampled(t):
-            return np.vstack([np.interp(t, g.t, c) for c in cols]) / sx[:, None]
+            rows = []
+            for c in cols:
+                cum = np.concatenate(([0.0], np.cumsum(0.5 * (c[1:] + c[:-1]) * np.diff(g.t))))
+                lo = np.clip(t - 0.5 * win, g.t[0], g.t[-1])
+                hi = np.clip(t + 0.5 * win, g.t[0], g.t[-1])
+                wide = hi - lo > 1e-12
+                avg = np.interp(t, g.t, c)
+                avg[wide] = (np.interp(hi[wide], g.t, cum) - np.interp(lo[wide], g.t, cum)) \
+                    / (hi[wide] - lo[wide])
+                rows.append(avg)
+            return np.vstack(rows) / sx[:, None]
 
         tg = np.linspace(0.0, tf_sim, N + 1)
         tcg = (np.arange(N)[:, None] + np.polynomial.legendre.leggauss(d)[0][None, :] * 0.5
@@ -358,6 +388,7 @@ def solve_braking_ocp(
 
     opts = {"ipopt.print_level": 5 if verbose else 0, "print_time": False,
             "ipopt.sb": "yes", "ipopt.tol": settings.tol, "ipopt.max_iter": settings.max_iter,
+            "ipopt.max_wall_time": settings.max_wall_time,
             **(ipopt_options or {})}
     opti.solver("ipopt", opts)
     setup = time.perf_counter() - t_setup
@@ -405,7 +436,8 @@ def _solve_coarse_to_fine(car, force_map, v0, v_stop, T_ambient, settings,
     try:
         coarse = solve_braking_ocp(
             car, force_map, v0, v_stop, T_ambient,
-            settings=replace(settings, intervals=nc, coarse_intervals=0),
+            settings=replace(settings, intervals=nc, coarse_intervals=0,
+                             max_wall_time=0.25 * settings.max_wall_time),
             brake_torque_initial=brake_torque_initial, ipopt_options=ipopt_options,
             initial_guess=initial_guess)
     except ConvergenceError as exc:

@@ -79,7 +79,7 @@ RESULT_KEYS = (
 )
 
 #: Initial guesses the OCP can start from (``[ocp] starts``, :func:`solve_ocp_from_starts`).
-OCP_STARTS = ("deceleration", "locked", "abs")
+OCP_STARTS = ("deceleration", "locked", "abs", "isothermal")
 
 
 
@@ -484,6 +484,11 @@ def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: S
     ``abs``
         The rule-based ABS simulation of the case (``abs_sim``), over the full slip range:
         a feasible point near the peak slip, on the other side of the sliding optimum.
+    ``isothermal``
+        Homotopy in the tread heating: the OCP of the same car with the tread held at the
+        case temperature (a smaller problem without the temperature's local optima), its
+        tread temperature then integrated along that stop (:func:`with_tread_heating`), as
+        the start of the full problem. The same as ``deceleration`` without a thermal state.
 
     Returns the best result, its start and per start the distance or the failure.
     """
@@ -495,7 +500,20 @@ def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: S
     tried: dict[str, Any] = {}
     for start in spec.ocp_starts:
         try:
-            if start in ("locked", "abs"):
+            if start == "isothermal" and spec.car.thermal is not None:
+                from dataclasses import replace as _replace
+
+                iso = solve_braking_ocp(_replace(spec.car, thermal=None), fmap, spec.v0,
+                                        spec.v_stop, case.T_K, settings=spec.ocp,
+                                        brake_torque_initial=spec.brake_torque_initial)
+                res = solve_braking_ocp(spec.car, fmap, spec.v0, spec.v_stop, case.T_K,
+                                        settings=replace(spec.ocp, kappa_min=-1.0),
+                                        brake_torque_initial=spec.brake_torque_initial,
+                                        initial_guess=with_tread_heating(spec.car, iso,
+                                                                         case.T_K))
+                res = replace(res, solve_time_s=res.solve_time_s + iso.solve_time_s,
+                              iterations=res.iterations + iso.iterations)
+            elif start in ("locked", "abs"):
                 guess = locked if start == "locked" else abs_sim
                 if guess is None:
                     tried[start] = {"failed": "no simulation to start from"}
@@ -520,6 +538,27 @@ def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: S
                                f"start: {tried}")
     best = min(results, key=lambda k: results[k].stopping_distance)
     return results[best], best, tried
+
+
+def with_tread_heating(car: QuarterCar, stop: OCPResult, T_ambient: float) -> OCPResult:
+    """``stop`` with its tread temperature integrated along it: ``C T' = eta Fx (omega R -
+    v) - G (T - T_ambient)`` (:mod:`.quarter_car`) by the trapezoidal rule on its time grid,
+    from ``T_ambient`` (the friction of the stop as it was, the temperature's effect on it
+    left out: a start for the thermal OCP, not a solution of it)."""
+    from dataclasses import replace
+
+    th = car.thermal
+    if th is None:
+        return stop
+    power = car.Fz * stop.mu * (stop.omega * car.radius - stop.v) * th.heat_fraction
+    T = np.empty_like(stop.t)
+    T[0] = T_ambient
+    k = th.cooling / th.heat_capacity
+    for i in range(stop.t.size - 1):
+        h = stop.t[i + 1] - stop.t[i]
+        rhs = 0.5 * (power[i] + power[i + 1]) / th.heat_capacity - k * (T[i] - T_ambient)
+        T[i + 1] = T[i] + h * rhs / (1.0 + 0.5 * h * k)
+    return replace(stop, T_tread=T)
 
 
 def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResult:
