@@ -133,7 +133,7 @@ def test_ocp_from_the_locked_start_finds_the_same_optimum_on_a_fixed_curve(tmp_p
 def test_spec_reads_the_new_keys_and_refuses_misuse(tmp_path):
     spec = load_study("abs_default")
     assert spec.abs_slip_from_map and spec.fmu_abs and spec.ocp_starts == (
-        "deceleration", "locked", "abs", "isothermal")
+        "deceleration", "locked", "abs")
     assert "dt_internal" not in spec.fmu, "the FMU runs at its own (converged) defaults"
     assert spec.fmu["step"] == pytest.approx(1e-3)
     text = (models_dir() / "studies" / "abs_analytic.toml").read_text().replace(
