@@ -148,6 +148,10 @@ def test_shipped_brush_study_runs(tmp_path):
         assert c["stopping_distance_ocp"] < c["stopping_distance_abs"], c["case"]
         assert c["stopping_distance_ocp"] < c["stopping_distance_locked"], c["case"]
         assert -1.0 < c["optimal_slip"] < 0.0, c["case"]
+        # the kept optimum beats every simulated strategy (idealised and realistic ABS,
+        # locked) and respects the point-mass bound of its tread temperatures (0.2 %)
+        assert c["ocp_optimality"] == "verified", (c["case"], c["ocp_optimality"])
+        assert c["stopping_distance_ocp"] < c["stopping_distance_abs_realistic"], c["case"]
 
 
 def test_a_failed_case_is_reported_and_the_study_goes_on(tmp_path, monkeypatch, capsys):
