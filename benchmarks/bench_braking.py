@@ -2,11 +2,14 @@
 
 Targets: OCP solve <= 5 s for 200 collocation intervals. Run:
 
-    python benchmarks/bench_braking.py [--repeat 5] [--json]
+    python benchmarks/bench_braking.py [--repeat 5] [--json] [--study abs_default]
 
 Reports medians over the repeats: the B-spline force-map build (tabulation of an analytic
 source + scipy coefficient fit + CasADi function) at three sizes, the OCP (IPOPT wall time and
-NLP set-up) at 200 intervals for two road curves, and one rule-based-ABS simulation.
+NLP set-up) at 200 intervals for two road curves, one rule-based-ABS simulation, and per case
+of a study (``--study``, default the brush-tire study ``abs_default``; ``--study none`` skips
+it) the OCP from each of the study's starts on that case's force map (median solve and
+set-up time, iterations, distance; a start that fails is counted and named).
 """
 
 from __future__ import annotations
@@ -97,13 +100,73 @@ def bench_abs(repeat: int) -> dict:
             "dt_s": r.dt}
 
 
+def bench_study_ocp(study: str, repeat: int) -> list[dict]:
+    """The study's OCPs per case and start (the brush-map OCPs of ``abs_default``)."""
+    from lookup.errors import ConvergenceError
+    from tire_brush.braking.abs_control import LockedWheel, RuleBasedABS
+    from tire_brush.braking.slip_map import optimal_slip
+    from tire_brush.braking.study import (
+        abs_slip_schedule,
+        case_force_map,
+        load_study,
+        solve_ocp_from_starts,
+    )
+
+    spec = load_study(study)
+    rows = []
+    for case in spec.cases:
+        car = spec.car
+        t0 = time.perf_counter()
+        fmap, _, _ = case_force_map(spec, case)
+        t_map = time.perf_counter() - t0
+        sm = optimal_slip(fmap, np.geomspace(spec.v_stop, spec.v0, 25), [car.Fz], [case.T_K])
+        sched = abs_slip_schedule(sm) if spec.abs_slip_from_map else None
+        locked = simulate_braking(car, fmap, LockedWheel(car.brake_torque_rate_max,
+                                                         spec.abs_params.control_period),
+                                  spec.v0, spec.v_stop, case.T_K, settings=spec.simulation)
+        abs_sim = simulate_braking(car, fmap, RuleBasedABS(spec.abs_params, car.radius,
+                                                           car.brake_torque_rate_max,
+                                                           slip_schedule=sched),
+                                   spec.v0, spec.v_stop, case.T_K, settings=spec.simulation)
+        per_start: dict[str, dict] = {}
+        for _ in range(repeat):
+            try:
+                _, _, tried = solve_ocp_from_starts(spec, case, fmap, locked, abs_sim)
+            except ConvergenceError as exc:
+                tried = getattr(exc, "tried", {})
+            for start, info in tried.items():
+                d = per_start.setdefault(start, {"solve": [], "setup": [], "iter": [],
+                                                 "dist": [], "failed": 0})
+                if "failed" in info:
+                    d["failed"] += 1
+                    continue
+                d["solve"].append(info["solve_time_s"])
+                d["setup"].append(info.get("setup_time_s", float("nan")))
+                d["iter"].append(info["iterations"])
+                d["dist"].append(info["stopping_distance"])
+        for start, d in per_start.items():
+            ok = bool(d["solve"])
+            rows.append({"case": case.label, "start": start, "intervals": spec.ocp.intervals,
+                         "map_build_s": t_map,
+                         "solve_s_median": statistics.median(d["solve"]) if ok else None,
+                         "setup_s_median": statistics.median(d["setup"]) if ok else None,
+                         "iterations": int(statistics.median(d["iter"])) if ok else None,
+                         "stopping_distance_m": d["dist"][-1] if ok else None,
+                         "failed": d["failed"]})
+    return rows
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--repeat", type=int, default=5)
     p.add_argument("--json", action="store_true")
+    p.add_argument("--study", default="abs_default",
+                   help="study whose OCPs are timed per case and start ('none': skip)")
     args = p.parse_args(argv)
     out = {"maps": bench_maps(args.repeat), "ocp": bench_ocp(args.repeat),
            "abs": bench_abs(max(1, args.repeat // 2))}
+    if args.study != "none":
+        out["study_ocp"] = bench_study_ocp(args.study, args.repeat)
     if args.json:
         json.dump(out, sys.stdout, indent=2)
         print()
@@ -119,6 +182,17 @@ def main(argv=None) -> int:
     a = out["abs"]
     print(f"rule-based ABS simulation: {a['abs_simulation_s_median']:.2f} s for {a['steps']} "
           f"steps of {1e3 * a['dt_s']:.2f} ms")
+    if "study_ocp" in out:
+        print(f"study {args.study}: OCP per case and start, {args.repeat} repeat(s), median "
+              "(target <= 5 s):")
+        for r in out["study_ocp"]:
+            if r["solve_s_median"] is None:
+                print(f"  {r['case']:22s} {r['start']:13s} failed {r['failed']}x")
+                continue
+            print(f"  {r['case']:22s} {r['start']:13s} solve {r['solve_s_median']:6.2f} s  "
+                  f"set-up {r['setup_s_median']:.2f} s  {r['iterations']:4d} iterations  "
+                  f"d = {r['stopping_distance_m']:.2f} m"
+                  + (f"  ({r['failed']} failed)" if r["failed"] else ""))
     return 0
 
 

@@ -106,3 +106,31 @@ def test_validation_names_the_axis():
                        T_K=[300.0])
     with pytest.raises(InputError, match="> 0"):
         ForceMap.build(smooth, kappa=[-1, 0], vx=[0.0, 1.0], Fz=[4000.0], T_K=[300.0])
+
+
+def test_fixed_inputs_slice_the_spline_exactly(fmap):
+    """Holding the load (and the temperature) fixed contracts the coefficients with that
+    axis' basis functions: the slice equals the full spline wherever the fixed input takes its
+    value (to rounding, 1e-12), has fewer spline axes, and clamps like the full map."""
+    pts = random_points(500, seed=3)
+    Fz0, T0 = 4100.0, 333.3
+    f1 = fmap.fixed(Fz=Fz0)
+    f2 = fmap.fixed(Fz=Fz0, T_K=T0)
+    assert f1.active == ("kappa", "vx", "T_K") and f2.active == ("kappa", "vx")
+    full = fmap(pts[:, 0], pts[:, 1], Fz0, pts[:, 3])
+    np.testing.assert_allclose(f1(pts[:, 0], pts[:, 1], 0.0, pts[:, 3]), full, rtol=0,
+                               atol=1e-12)
+    np.testing.assert_allclose(f2(pts[:, 0], pts[:, 1], 0.0, 0.0),
+                               fmap(pts[:, 0], pts[:, 1], Fz0, T0), rtol=0, atol=1e-12)
+    # CasADi of the slice against scipy of the full map
+    f = f2.casadi_function()
+    got = np.array([float(f(k, v, 0.0, 0.0)) for k, v in pts[:20, :2]])
+    np.testing.assert_allclose(got, fmap(pts[:20, 0], pts[:20, 1], Fz0, T0), atol=1e-12)
+    # beyond the axis the value clamps to its end, as the full map's evaluation does
+    np.testing.assert_allclose(fmap.fixed(Fz=1e5)(pts[:, 0], pts[:, 1], 0.0, pts[:, 3]),
+                               fmap(pts[:, 0], pts[:, 1], AXES["Fz"][-1], pts[:, 3]),
+                               atol=1e-12)
+    with pytest.raises(InputError):
+        fmap.fixed(kappa=-0.1)
+    with pytest.raises(InputError):
+        fmap.fixed(load=1.0)

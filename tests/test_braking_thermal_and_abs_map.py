@@ -13,6 +13,7 @@ from lookup.paths import models_dir
 from tire_brush.braking.abs_control import ABSParams, LockedWheel, RuleBasedABS, TorqueRamp
 from tire_brush.braking.force_map import ForceMap
 from tire_brush.braking.quarter_car import (
+    QuarterCar,
     ThermalParams,
     load_quarter_car,
     tread_temperature_rise_bound,
@@ -131,8 +132,8 @@ def test_ocp_from_the_locked_start_finds_the_same_optimum_on_a_fixed_curve(tmp_p
 
 def test_spec_reads_the_new_keys_and_refuses_misuse(tmp_path):
     spec = load_study("abs_default")
-    assert spec.abs_slip_from_map and spec.fmu_abs and spec.ocp_starts == ("deceleration",
-                                                                            "locked", "abs")
+    assert spec.abs_slip_from_map and spec.fmu_abs and spec.ocp_starts == (
+        "deceleration", "locked", "abs")
     assert "dt_internal" not in spec.fmu, "the FMU runs at its own (converged) defaults"
     assert spec.fmu["step"] == pytest.approx(1e-3)
     text = (models_dir() / "studies" / "abs_analytic.toml").read_text().replace(
@@ -177,3 +178,41 @@ def test_ocp_optimality_check_names_what_beats_it():
     assert msg.startswith("not proven") and "abs stops in 48.580 m" in msg
     assert "locked" not in msg
     assert "below the point-mass bound" in ocp_optimality(30.0, 33.0, {"abs": 35.0})
+
+
+def test_tread_heating_along_a_stop_closed_forms():
+    """with_tread_heating (the isothermal start's temperature): without cooling the rise is
+    eta / C times the friction work (trapezoidal, exact for the rule: 1e-12); with cooling and
+    a constant friction power P it follows P / G (1 - exp(-G t / C)) (1e-6 at 2000 steps:
+    second order)."""
+    from tire_brush.braking.ocp import OCPResult
+    from tire_brush.braking.study import with_tread_heating
+
+    n = 2001
+    t = np.linspace(0.0, 3.0, n)
+    v = 25.0 - 8.0 * t
+    R, Fz = 0.31, 4413.0
+    kappa = np.full(n, -0.1)
+    omega = v * (1 + kappa) / R
+    mu = np.full(n, -0.9)
+    stop = OCPResult(t=t, x=np.zeros(n), v=v, omega=omega, brake_torque=np.zeros(n),
+                     kappa=kappa, mu=mu, T_tread=np.full(n, 273.15), torque_rate=np.zeros(n - 1),
+                     stopping_distance=0.0, final_time=3.0, solve_time_s=0.0, setup_time_s=0.0,
+                     iterations=0, status="")
+    base = QuarterCar(mass=Fz / 9.80665, wheel_inertia=1.2, radius=R, brake_torque_max=3000.0,
+                      brake_torque_rate_max=2e4,
+                      thermal=ThermalParams(heat_capacity=4500.0, cooling=0.0,
+                                            heat_fraction=0.5))
+    power = Fz * mu * (omega * R - v)
+    T = with_tread_heating(base, stop, 273.15).T_tread
+    assert T[-1] - 273.15 == pytest.approx(0.5 * np.trapezoid(power, t) / 4500.0, rel=1e-12)
+    # constant power: the speed held, P = Fz mu kappa v
+    const = OCPResult(**{**stop.__dict__, "v": np.full(n, 20.0),
+                         "omega": np.full(n, 20.0 * 0.9 / R)})
+    cool = QuarterCar(**{**base.__dict__,
+                         "thermal": ThermalParams(heat_capacity=4500.0, cooling=1500.0,
+                                                  heat_fraction=0.5)})
+    P = 0.5 * Fz * 0.9 * 0.1 * 20.0
+    T = with_tread_heating(cool, const, 273.15).T_tread
+    np.testing.assert_allclose(T - 273.15, P / 1500.0 * (1 - np.exp(-1500.0 * t / 4500.0)),
+                               rtol=1e-6, atol=1e-9)

@@ -115,3 +115,67 @@ def test_ideal_balance_closed_form():
     light = replace(c, wheel_inertia=1e-12)
     assert light.ideal_brake_balance(1.0) == pytest.approx((1.5 + 0.55) / 2.7, rel=1e-9)
     assert 0.5 < c.ideal_brake_balance(1.0) < light.ideal_brake_balance(1.0)
+
+
+# -- two-track car, split-mu ----------------------------------------------------------------
+def mu_vec(kappa, vx, Fz, T_K):
+    """The Burckhardt dry curve (no velocity term) at every load, written out for four
+    wheels at once (the curve object's call costs 10x more, which these RK4 runs feel)."""
+    s = -np.asarray(kappa, dtype=float)
+    return -(CURVE.c1 * (1.0 - np.exp(-CURVE.c2 * s)) - CURVE.c3 * s)
+
+
+def test_mu_vec_is_the_burckhardt_curve():
+    k = np.linspace(-1.0, 0.0, 41)
+    np.testing.assert_allclose(mu_vec(k, 10.0, 4000.0, T), CURVE(k, 10.0), rtol=1e-12,
+                               atol=1e-15)
+
+
+def test_two_track_locked_on_split_mu_matches_the_closed_forms():
+    """All four wheels locked at once (a brake rate 100x the car's), left on dry asphalt,
+    right at 0.3 of it: the car decelerates at g mu_lock (1 + 0.3) / 2 (stopping distance
+    within 0.5 %: the ~20 ms of build-up), the yaw moment is w m g mu_lock (1 - 0.3) / 4
+    (1e-9: algebra once locked) and turns the car towards the high side (left, > 0); the
+    loads sum to m g at every instant and each side carries half of it; the uniform road has
+    no yaw moment."""
+    from tire_brush.braking import MuProfile
+    from tire_brush.braking.two_axle import simulate_two_track, wheel_rates
+
+    c = car(0.6, rate=4e6, torque=40000.0)
+    ctl = [LockedWheel(r) for r in wheel_rates(c)]
+    res = simulate_two_track(c, mu_vec, ctl, 15.0, VS, T, road_right=MuProfile.uniform(0.3),
+                             dt=1e-3)
+    mu_lock = -float(CURVE(-1.0, 10.0))
+    bound = (15.0**2 - VS**2) / (2 * mu_lock * 0.65 * c.g)
+    assert res.stopping_distance == pytest.approx(bound, rel=5e-3)
+    late = res.t > 0.1
+    assert np.allclose(res.kappa[late], -1.0)
+    np.testing.assert_allclose(res.yaw_moment[late], c.track * c.mass * c.g * mu_lock * 0.7 / 4,
+                               rtol=1e-9)
+    np.testing.assert_allclose(res.Fz.sum(axis=1), c.mass * c.g, rtol=1e-12)
+    np.testing.assert_allclose(res.Fz[:, 0] + res.Fz[:, 2], c.mass * c.g / 2, rtol=1e-12)
+    np.testing.assert_allclose(res.a[late], -c.g * mu_lock * 0.65, rtol=1e-9)
+    uni = simulate_two_track(c, mu_vec, [LockedWheel(r) for r in wheel_rates(c)], 15.0, VS, T,
+                             dt=1e-3)
+    assert np.max(np.abs(uni.yaw_moment)) < 1e-9 * c.mass * c.g
+    assert uni.stopping_distance < res.stopping_distance
+
+
+@pytest.mark.slow
+def test_two_track_on_a_uniform_road_is_the_two_axle_car():
+    """Same road on both sides, ABS per wheel: the two-track stop is the two-axle stop
+    (each side of an axle does what that axle's wheel does; 1e-6: the same RK4 steps, the
+    loads converged to 1e-10), with no yaw moment (6 -> 2 m/s; ~12 s, the two-axle
+    reference calls the friction point by point)."""
+    from tire_brush.braking.two_axle import simulate_two_track, wheel_rates
+
+    c = car(c_bal := car(0.5).ideal_brake_balance(CURVE.peak_mu()), torque=9000.0)
+    assert c.brake_balance == c_bal
+    rf, rr = axle_rates(c)
+    two = simulate_two_axle(c, mu_load_free, (RuleBasedABS(ABSParams(), c.radius, rf),
+                                              RuleBasedABS(ABSParams(), c.radius, rr)),
+                            6.0, 2.0, T, dt=2e-4)
+    four = simulate_two_track(c, mu_vec, [RuleBasedABS(ABSParams(), c.radius, r)
+                                          for r in wheel_rates(c)], 6.0, 2.0, T)
+    assert four.stopping_distance == pytest.approx(two.stopping_distance, rel=1e-6)
+    assert np.max(np.abs(four.yaw_moment)) < 1e-6

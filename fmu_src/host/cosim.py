@@ -401,6 +401,179 @@ def simulate_braking_fmu(
         stop_time=float(t_[-1]) if stopped else math.nan, stopped=stopped, dt=h, fmu=info)
 
 
+# -- two-track car: one FMU instance per wheel ----------------------------------------------
+def simulate_two_track_fmu(
+    fmu: str | Path,
+    car: Any,
+    controllers: Any,
+    v0: float,
+    T_ambient: float,
+    *,
+    v_stop: float = 1.0,
+    settings: CosimSettings | None = None,
+    road_left: Callable[[float], float] | None = None,
+    road_right: Callable[[float], float] | None = None,
+    unzipdir: str | Path | None = None,
+) -> Any:
+    """Brake the four-wheel car of :mod:`tire_brush.braking.two_axle` with four FMU instances.
+
+    The vehicle side of :func:`tire_brush.braking.two_axle.simulate_two_track` (same car,
+    controllers per wheel in the order FL, FR, RL, RR, left and right roads as the FMUs'
+    ``mu_scale``), the tire forces from one instance of the brush-tire FMU per wheel. At every
+    communication step each instance gets its wheel's speed, spin, load and road factor, one
+    ``doStep`` gives its ``Fx``; the car and the wheels then advance as in
+    :func:`simulate_braking_fmu` (explicit coupling). The loads of a step are those of the
+    previous step's deceleration (the transfer lags one step, 1 ms: the load changes by
+    ``m h da / (2 L)`` per step, a few N). The tread is isothermal (the FMUs' thermal state
+    off), as in the map model.
+
+    Returns a :class:`tire_brush.braking.two_axle.TwoTrackResult` (``mu`` is ``Fx / Fz`` on
+    that road).
+
+    Raises
+    ------
+    InputError
+        Inconsistent inputs (radius vs the FMU's ``tire.R_e``, controller periods, speeds).
+    CosimError
+        An FMU refused a step or reset its model; ``ConvergenceError`` when the car does not
+        reach ``v_stop`` within ``settings.t_max``.
+    """
+    import fmpy
+    from fmpy.fmi2 import FMU2Slave
+
+    from tire_brush.braking.two_axle import (
+        WHEELS,
+        TwoTrackResult,
+        wheel_load_split,
+        yaw_moment,
+    )
+
+    settings = settings or CosimSettings()
+    h = float(settings.step)
+    controllers = tuple(controllers)
+    if len(controllers) != 4:
+        raise InputError("need four controllers (FL, FR, RL, RR)", field="controllers",
+                         value=len(controllers))
+    if not (math.isfinite(v0) and math.isfinite(v_stop) and v0 > v_stop > 0):
+        raise InputError("need v0 > v_stop > 0 m/s", field="v0, v_stop", value=(v0, v_stop))
+    n_ctrl = []
+    for c in controllers:
+        n = round(c.control_period / h)
+        if n < 1 or abs(n * h - c.control_period) > 1e-9 * max(1.0, n):
+            raise InputError(f"the controller period must be a whole number of communication "
+                             f"steps of {h:g} s", field="controller.control_period",
+                             value=c.control_period)
+        n_ctrl.append(n)
+    md = fmpy.read_model_description(str(fmu))
+    md_vars = {v.name: v for v in md.modelVariables}
+    missing = [n for n in (*INPUT_NAMES, *OUTPUT_NAMES, "tire.R_e") if n not in md_vars]
+    if missing:
+        raise InputError(f"not a brush-tire FMU: no variable(s) {', '.join(missing)}",
+                         source=str(fmu))
+    start = dict(settings.parameters)
+    if settings.thermal == "vehicle":
+        start["tire.thermal.enabled"] = False
+    unknown = sorted(set(start) - {v.name for v in md.modelVariables
+                                   if v.causality == "parameter"})
+    if unknown:
+        raise InputError(f"the FMU has no parameter(s) {', '.join(unknown)}",
+                         field="cosim.parameters", value=unknown)
+    R_e = float(start.get("tire.R_e", md_vars["tire.R_e"].start))
+    if abs(car.radius - R_e) > 1e-9 * R_e:
+        raise InputError(f"the car's radius must equal the FMU's tire.R_e = {R_e:g} m",
+                         field="radius", value=car.radius)
+    R, J, m = car.radius, car.wheel_inertia, car.mass
+    phi = car.brake_balance
+    cap = car.brake_torque_max / 2.0 * np.array([phi, phi, 1.0 - phi, 1.0 - phi])
+
+    def factors(x: float) -> np.ndarray:
+        fl = 1.0 if road_left is None else float(road_left(x))
+        fr = 1.0 if road_right is None else float(road_right(x))
+        return np.array([fl, fr, fl, fr])
+
+    own_dir = unzipdir is None
+    unzip = fmpy.extract(str(fmu)) if own_dir else str(unzipdir)
+    vin = [md_vars[n].valueReference for n in INPUT_NAMES]
+    vr_fx = md_vars["Fx"].valueReference
+    status_vr = md_vars["input_status"].valueReference if "input_status" in md_vars else None
+    slaves = []
+    try:
+        x, v, a, t = 0.0, float(v0), 0.0, 0.0
+        w = np.full(4, v / R)
+        Tb = np.zeros(4)
+        Fz = wheel_load_split(car, 0.0)
+        f = factors(0.0)
+        for name in WHEELS:
+            sl = FMU2Slave(guid=md.guid, unzipDirectory=unzip,
+                           modelIdentifier=md.coSimulation.modelIdentifier,
+                           instanceName=f"wheel_{name}")
+            slaves.append(sl)
+            sl.instantiate()
+            sl.setupExperiment(startTime=0.0)
+            sl.enterInitializationMode()
+            _set(sl, md_vars, start)
+        for i, sl in enumerate(slaves):
+            sl.setReal(vin, [v, 0.0, float(w[i]), float(Fz[i]), float(T_ambient), float(f[i])])
+            sl.exitInitializationMode()
+        for c in controllers:
+            c.reset()
+        u = np.zeros(4)
+        Fx = np.zeros(4)
+        rows = [np.concatenate(([t, x, v, a], w, Tb, (w * R - v) / v, Fx / Fz, Fz, f))]
+        n_max = math.ceil(settings.t_max / h - 1e-9)
+        k = 0
+        while k < n_max:
+            for i, c in enumerate(controllers):
+                if k % n_ctrl[i] == 0:
+                    u[i] = c.torque_rate(t, v, float(w[i]), float(Tb[i]))
+            Fz = wheel_load_split(car, a)
+            f = factors(x)
+            for i, sl in enumerate(slaves):
+                sl.setReal(vin, [v, 0.0, float(w[i]), float(Fz[i]), float(T_ambient),
+                                 float(f[i])])
+                try:
+                    sl.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+                except Exception as exc:
+                    raise CosimError(f"the FMU of wheel {WHEELS[i]} refused the step at t = "
+                                     f"{t:.6g} s: {exc}") from exc
+                if status_vr is not None and int(sl.getInteger([status_vr])[0]) & 64:
+                    raise CosimError(f"the FMU of wheel {WHEELS[i]} reset its tire model at "
+                                     f"t = {t:.6g} s")
+                Fx[i] = sl.getReal([vr_fx])[0]
+            Tb_new = np.clip(Tb + h * u, 0.0, cap)
+            a = float(np.sum(Fx)) / m
+            v_new = v + h * a
+            w_new = np.maximum(w + h * (-R * Fx - 0.5 * (Tb + Tb_new)) / J, 0.0)
+            x_new = x + 0.5 * h * (v + v_new)
+            k += 1
+            if v_new <= v_stop:
+                s_ = (v - v_stop) / (v - v_new)
+                x_s, w_s = x + s_ * (x_new - x), w + s_ * (w_new - w)
+                Tb_s = Tb + s_ * (Tb_new - Tb)
+                rows.append(np.concatenate(([t + s_ * h, x_s, v_stop, a], w_s, Tb_s,
+                                            (w_s * R - v_stop) / v_stop, Fx / Fz, Fz, f)))
+                break
+            t, x, v, w, Tb = k * h, x_new, v_new, w_new, Tb_new
+            rows.append(np.concatenate(([t, x, v, a], w, Tb, (w * R - v) / v, Fx / Fz, Fz, f)))
+        else:
+            raise ConvergenceError(f"the car did not reach {v_stop:g} m/s within "
+                                   f"{settings.t_max:g} s through the FMUs (v = {v:.3g} m/s)")
+        for sl in slaves:
+            sl.terminate()
+    finally:
+        for sl in slaves:
+            sl.freeInstance()
+        if own_dir:
+            shutil.rmtree(unzip, ignore_errors=True)
+    arr = np.array(rows)
+    Fx_h = arr[:, 16:20] * arr[:, 20:24]
+    return TwoTrackResult(
+        t=arr[:, 0], x=arr[:, 1], v=arr[:, 2], a=arr[:, 3], omega=arr[:, 4:8],
+        brake_torque=arr[:, 8:12], kappa=arr[:, 12:16], mu=arr[:, 16:20], Fz=arr[:, 20:24],
+        Fx=Fx_h, road=arr[:, 24:28], yaw_moment=yaw_moment(car.track, Fx_h),
+        stopping_distance=float(arr[-1, 1]), stop_time=float(arr[-1, 0]))
+
+
 # -- study plug-in ---------------------------------------------------------------------------
 @dataclass(frozen=True)
 class FmuBrakingSimulator:

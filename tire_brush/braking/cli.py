@@ -29,6 +29,9 @@ def register(sub: argparse._SubParsersAction, simulator_factory=None) -> None:
     s.add_argument("-o", "--output", required=True, metavar="DIR", help="output folder")
     s.add_argument("--scheduler", metavar="ADDRESS", default=None,
                    help="Dask scheduler address (e.g. tcp://host:8786); cases run as tasks")
+    s.add_argument("--jobs", "-j", type=int, default=0, metavar="N",
+                   help="cases at once in N local processes (default 0: one per available "
+                        "core, at most one per case; 1: in this process, one after another)")
     s.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     s.add_argument("--json", action="store_true",
                    help="print the results document (as results.json) on stdout")
@@ -99,7 +102,8 @@ def _run_study(args: argparse.Namespace) -> int:
     progress = None if args.json else (lambda msg: print(f"# {msg}", file=sys.stderr))
     results = run_study(spec, scheduler=args.scheduler, progress=progress,
                         work_dir=args.output,
-                        simulator_factory=getattr(args, "simulator_factory", None))
+                        simulator_factory=getattr(args, "simulator_factory", None),
+                        jobs=args.jobs)
     doc = write_results(spec, results, args.output, plots=not args.no_plots,
                         spec_path=args.spec)
     if args.json:

@@ -198,6 +198,46 @@ class ForceMap:
         a = self.axes[name]
         return float(a[0]), float(a[-1])
 
+    def fixed(self, **values: float) -> ForceMap:
+        """The map with inputs held at fixed values (e.g. ``fixed(Fz=4413.0)``): exact.
+
+        A tensor B-spline at a fixed coordinate ``x`` of one axis is the spline of the other
+        axes whose coefficients are contracted with that axis' basis functions at ``x``
+        (``c'_{..} = sum_j c_{..j..} B_j(x)``), so the result equals the full map wherever
+        the fixed input takes its value (to rounding). The value is clamped to the axis as
+        the map's evaluation does. An OCP at a fixed load evaluates a cubic spline of
+        ``4^3`` instead of ``4^4`` coefficients per point (``4^2`` when the temperature is
+        fixed too). ``values`` of the result are the spline at the remaining nodes.
+        """
+        from scipy.interpolate import BSpline
+
+        unknown = set(values) - set(INPUTS)
+        if unknown:
+            raise InputError(f"no input(s) {sorted(unknown)}; inputs are {INPUTS}",
+                             field="fixed", value=sorted(unknown))
+        coeffs = self.coefficients
+        knots, active, degrees = list(self.knots), list(self.active), list(self.degrees)
+        axes = dict(self.axes)
+        for name, val in values.items():
+            lo, hi = self.bounds(name)
+            x = min(max(float(val), lo), hi)
+            axes[name] = np.array([x])
+            if name not in active:
+                continue
+            i = active.index(name)
+            xc = float(self._coord(name, x))
+            basis = BSpline.design_matrix(np.array([xc]), knots[i], degrees[i]).toarray()[0]
+            coeffs = np.tensordot(coeffs, basis, axes=([i], [0]))
+            del knots[i], active[i], degrees[i]
+        if "kappa" not in active:
+            raise InputError("the slip cannot be fixed", field="fixed", value="kappa")
+        out = ForceMap(axes=axes, values=np.empty(0), degree=self.degree, knots=tuple(knots),
+                       coefficients=np.ascontiguousarray(coeffs), active=tuple(active),
+                       build_time_s=self.build_time_s, label=self.label)
+        grids = np.meshgrid(*axes.values(), indexing="ij")
+        object.__setattr__(out, "values", out(*grids))
+        return out
+
     # -- numpy evaluation -----------------------------------------------------------------------
     def __call__(self, kappa, vx, Fz, T_K) -> np.ndarray:
         """``Fx/Fz`` [1] from the spline (inputs clamped to the axes), numpy broadcasting."""

@@ -79,7 +79,7 @@ RESULT_KEYS = (
 )
 
 #: Initial guesses the OCP can start from (``[ocp] starts``, :func:`solve_ocp_from_starts`).
-OCP_STARTS = ("deceleration", "locked", "abs")
+OCP_STARTS = ("deceleration", "locked", "abs", "isothermal")
 
 
 
@@ -484,6 +484,11 @@ def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: S
     ``abs``
         The rule-based ABS simulation of the case (``abs_sim``), over the full slip range:
         a feasible point near the peak slip, on the other side of the sliding optimum.
+    ``isothermal``
+        Homotopy in the tread heating: the OCP of the same car with the tread held at the
+        case temperature (a smaller problem without the temperature's local optima), its
+        tread temperature then integrated along that stop (:func:`with_tread_heating`), as
+        the start of the full problem. The same as ``deceleration`` without a thermal state.
 
     Returns the best result, its start and per start the distance or the failure.
     """
@@ -495,7 +500,20 @@ def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: S
     tried: dict[str, Any] = {}
     for start in spec.ocp_starts:
         try:
-            if start in ("locked", "abs"):
+            if start == "isothermal" and spec.car.thermal is not None:
+                from dataclasses import replace as _replace
+
+                iso = solve_braking_ocp(_replace(spec.car, thermal=None), fmap, spec.v0,
+                                        spec.v_stop, case.T_K, settings=spec.ocp,
+                                        brake_torque_initial=spec.brake_torque_initial)
+                res = solve_braking_ocp(spec.car, fmap, spec.v0, spec.v_stop, case.T_K,
+                                        settings=replace(spec.ocp, kappa_min=-1.0),
+                                        brake_torque_initial=spec.brake_torque_initial,
+                                        initial_guess=with_tread_heating(spec.car, iso,
+                                                                         case.T_K))
+                res = replace(res, solve_time_s=res.solve_time_s + iso.solve_time_s,
+                              iterations=res.iterations + iso.iterations)
+            elif start in ("locked", "abs"):
                 guess = locked if start == "locked" else abs_sim
                 if guess is None:
                     tried[start] = {"failed": "no simulation to start from"}
@@ -513,12 +531,34 @@ def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: S
             continue
         results[start] = res
         tried[start] = {"stopping_distance": res.stopping_distance,
-                        "iterations": res.iterations, "solve_time_s": res.solve_time_s}
+                        "iterations": res.iterations, "solve_time_s": res.solve_time_s,
+                        "setup_time_s": res.setup_time_s}
     if not results:
         raise ConvergenceError(f"case {case.label}: the braking OCP did not converge from any "
                                f"start: {tried}")
     best = min(results, key=lambda k: results[k].stopping_distance)
     return results[best], best, tried
+
+
+def with_tread_heating(car: QuarterCar, stop: OCPResult, T_ambient: float) -> OCPResult:
+    """``stop`` with its tread temperature integrated along it: ``C T' = eta Fx (omega R -
+    v) - G (T - T_ambient)`` (:mod:`.quarter_car`) by the trapezoidal rule on its time grid,
+    from ``T_ambient`` (the friction of the stop as it was, the temperature's effect on it
+    left out: a start for the thermal OCP, not a solution of it)."""
+    from dataclasses import replace
+
+    th = car.thermal
+    if th is None:
+        return stop
+    power = car.Fz * stop.mu * (stop.omega * car.radius - stop.v) * th.heat_fraction
+    T = np.empty_like(stop.t)
+    T[0] = T_ambient
+    k = th.cooling / th.heat_capacity
+    for i in range(stop.t.size - 1):
+        h = stop.t[i + 1] - stop.t[i]
+        rhs = 0.5 * (power[i] + power[i + 1]) / th.heat_capacity - k * (T[i] - T_ambient)
+        T[i + 1] = T[i] + h * rhs / (1.0 + 0.5 * h * k)
+    return replace(stop, T_tread=T)
 
 
 def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResult:
@@ -651,13 +691,26 @@ def fmu_simulators(spec: StudySpec, work_dir: str | Path,
     return out
 
 
+def available_cores() -> int:
+    """Cores this process may run on (its CPU affinity where the platform has one)."""
+    import os
+
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:                     # not on Linux
+        return os.cpu_count() or 1
+
+
 def run_study(spec: StudySpec, scheduler: str | None = None, progress=None,
               work_dir: str | Path | None = None,
-              simulator_factory: Any = None) -> list[CaseResult | CaseFailure]:
-    """Run every case, locally in order or as Dask tasks on ``scheduler`` (an address).
+              simulator_factory: Any = None, jobs: int = 1) -> list[CaseResult | CaseFailure]:
+    """Run every case, locally or as Dask tasks on ``scheduler`` (an address).
 
-    A case that fails is returned as a :class:`CaseFailure` (with ``progress``, reported at
-    once) and the study goes on.
+    Locally the cases run in ``jobs`` processes at once (1: one after the other in this
+    process; 0: as many as :func:`available_cores`, at most one per case). A case is
+    independent of the others (its own force map, OCPs, simulations), so the results do not
+    depend on ``jobs``. A case that fails is returned as a :class:`CaseFailure` (with
+    ``progress``, reported at once) and the study goes on.
 
     ``simulator_factory`` builds the FMU simulators of a study with ``[study] fmu_abs``
     (:func:`fmu_simulators`; ``tirefric abs`` and the demo hand in
@@ -674,12 +727,17 @@ def run_study(spec: StudySpec, scheduler: str | None = None, progress=None,
         import tempfile
 
         with tempfile.TemporaryDirectory(prefix="tirefric_study_") as tmp:
-            return run_study(spec, scheduler, progress, tmp, simulator_factory)
+            return run_study(spec, scheduler, progress, tmp, simulator_factory, jobs)
     sims: dict[str, Any] = {}
     if spec.fmu_abs:
         if progress is not None:
             progress(f"FMU build into {work_dir}")
         sims = fmu_simulators(spec, work_dir, simulator_factory)
+    if jobs < 0:
+        raise InputError("must be >= 0 (0: all available cores)", field="jobs", value=jobs)
+    n_jobs = min(jobs or available_cores(), len(spec.cases))
+    if scheduler is None and n_jobs > 1:
+        return _run_parallel(spec, sims, progress, n_jobs)
     if scheduler is None:
         out = []
         for case in spec.cases:
@@ -697,6 +755,34 @@ def run_study(spec: StudySpec, scheduler: str | None = None, progress=None,
                                  pure=False)
                    for case in spec.cases]
         return client.gather(futures)
+
+
+def _run_parallel(spec: StudySpec, sims: dict[str, Any], progress, n_jobs: int
+                  ) -> list[CaseResult | CaseFailure]:
+    """The cases in ``n_jobs`` worker processes (spawned: a fresh interpreter each, nothing
+    of this process' solver or thread state is inherited); results in the cases' order."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    if progress is not None:
+        progress(f"{len(spec.cases)} case(s) in {n_jobs} processes")
+    with ProcessPoolExecutor(max_workers=n_jobs,
+                             mp_context=multiprocessing.get_context("spawn")) as pool:
+        futures = {pool.submit(run_case_or_failure, spec, case, sims.get(case.label)): i
+                   for i, case in enumerate(spec.cases)}
+        out: list[Any] = [None] * len(spec.cases)
+        for fut in as_completed(futures):
+            i = futures[fut]
+            case = spec.cases[i]
+            try:
+                r = fut.result()
+            except Exception as exc:  # the worker itself died: still one case only
+                r = CaseFailure(case=case, error=f"{type(exc).__name__}: {exc}")
+            out[i] = r
+            if progress is not None:
+                progress(f"case {case.label} FAILED: {r.error}" if isinstance(r, CaseFailure)
+                         else f"case {case.label} done")
+    return out
 
 
 # -- output ---------------------------------------------------------------------------------------

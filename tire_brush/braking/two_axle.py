@@ -1,4 +1,5 @@
-"""Two-axle straight-line braking: longitudinal load transfer, brake balance, one ABS per axle.
+"""Two-axle straight-line braking: longitudinal load transfer, brake balance, one ABS per axle;
+and the two-track (four-wheel) car on a split-mu road with its yaw moment.
 
 The quarter car (:mod:`.quarter_car`) has a constant wheel load. A real car pitches forward
 as it brakes: the front axle gains the load the rear loses, and the brake balance (the share
@@ -24,6 +25,27 @@ The closed form that checks it: with a friction independent of load and the *ide
 balance ``phi = (l_r + mu h) / L`` both axles reach their peak together and the stop
 approaches the point-mass bound ``v0^2 / (2 mu g)``; any other balance locks (or, with ABS,
 cycles) one axle first and stops longer.
+
+**Two-track model, split-mu** (:func:`simulate_two_track`). Four wheels FL, FR, RL, RR, each
+with its own spin, brake torque, controller and road: the friction of the left and the right
+wheels is scaled by the road of their side (:class:`.road.MuProfile` against the travelled
+distance), which makes split-mu (one side on ice) and a mu-jump on one side. The loads are
+those of the two-axle model split equally left-right (a straight stop has no lateral
+acceleration, so no lateral load transfer). Unequal braking forces left and right give the
+car a yaw moment about its centre of gravity (x forward, y left, z up)::
+
+    M_z = -(w / 2) (Fx_FL + Fx_RL - Fx_FR - Fx_RR)        (w: track width)
+
+positive (turning left) when the left wheels brake harder. The car itself is held on a
+straight line: the model has no lateral or yaw degree of freedom, as if the driver's steering
+cancelled ``M_z`` with lateral forces that cost no longitudinal friction. ``M_z`` is reported
+(per time, its peak) as what the steering must hold; it is the quantity split-mu ABS logic
+(select-low on the rear axle, yaw-moment build-up delay on the front) limits (Bosch,
+*Automotive Handbook*, "Antilock braking system": yaw-moment build-up delay). Closed form
+that checks it: all wheels locked on a road of friction ``mu_L`` left, ``mu_R`` right, with a
+friction independent of load, decelerate at ``g (mu_L + mu_R) / 2`` with
+``M_z = w m g (mu_L - mu_R) / 4`` at every instant (each side carries half the weight,
+whatever the front-rear transfer).
 """
 
 from __future__ import annotations
@@ -68,6 +90,9 @@ class TwoAxleCar:
         Total brake torque rate [N m/s].
     g : float
         Gravity [m/s^2].
+    track : float
+        Track width [m] (distance between the left and right wheels of an axle; the
+        two-track model's lever of the yaw moment, :func:`simulate_two_track`).
     """
 
     mass: float
@@ -80,10 +105,11 @@ class TwoAxleCar:
     brake_torque_max: float
     brake_torque_rate_max: float
     g: float = G_STANDARD
+    track: float = 1.55
 
     def __post_init__(self) -> None:
         for name in ("mass", "wheelbase", "cg_to_front", "cg_height", "wheel_inertia",
-                     "radius", "brake_torque_max", "brake_torque_rate_max", "g"):
+                     "radius", "brake_torque_max", "brake_torque_rate_max", "g", "track"):
             val = getattr(self, name)
             if not (math.isfinite(val) and val > 0):
                 raise InputError("must be a finite number > 0", field=f"car.{name}",
@@ -221,3 +247,188 @@ def axle_rates(car: TwoAxleCar) -> tuple[float, float]:
     phi = car.brake_balance
     return (car.brake_torque_rate_max * phi / 2.0,
             car.brake_torque_rate_max * (1.0 - phi) / 2.0)
+
+
+#: Wheel names of the two-track model, in array order.
+WHEELS = ("FL", "FR", "RL", "RR")
+#: Lateral side of each wheel (+1 left, -1 right) and its axle (0 front, 1 rear).
+WHEEL_SIDE = np.array([1.0, -1.0, 1.0, -1.0])
+WHEEL_AXLE = np.array([0, 0, 1, 1])
+
+
+@dataclass
+class TwoTrackResult:
+    """Time histories of a two-track stop; per-wheel arrays have the columns
+    :data:`WHEELS`.
+
+    Attributes
+    ----------
+    t, x, v, a : numpy.ndarray
+        Time [s], distance [m], speed [m/s], acceleration [m/s^2].
+    omega, brake_torque, kappa, mu, Fz, Fx, road : numpy.ndarray
+        Per wheel: spin [rad/s], brake torque [N m], slip [1], force ratio of the tire on
+        that road ``Fx / Fz`` [1], load [N], longitudinal force [N], road friction factor [1].
+    yaw_moment : numpy.ndarray
+        ``M_z`` about the centre of gravity [N m] (module docstring), positive turning left.
+    stopping_distance, stop_time : float
+        Distance [m] and time [s] from ``v0`` to ``v_stop``.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    omega: np.ndarray
+    brake_torque: np.ndarray
+    kappa: np.ndarray
+    mu: np.ndarray
+    Fz: np.ndarray
+    Fx: np.ndarray
+    road: np.ndarray
+    yaw_moment: np.ndarray
+    stopping_distance: float
+    stop_time: float
+
+    def summary(self) -> dict[str, float]:
+        """Stopping distance and time, peak |yaw moment| and its mean over the stop."""
+        dt = np.diff(self.t)
+        mz = 0.5 * (self.yaw_moment[1:] + self.yaw_moment[:-1])
+        return {"stopping_distance": self.stopping_distance, "stop_time": self.stop_time,
+                "yaw_moment_peak_Nm": float(np.max(np.abs(self.yaw_moment))),
+                "yaw_moment_mean_Nm": float(np.sum(mz * dt) / np.sum(dt))}
+
+
+def yaw_moment(track: float, Fx: np.ndarray) -> np.ndarray:
+    """``M_z = -(w / 2) sum_i side_i Fx_i`` [N m] for forces ``Fx`` [..., 4] in the order of
+    :data:`WHEELS` (module docstring)."""
+    return -0.5 * track * np.sum(np.asarray(Fx) * WHEEL_SIDE, axis=-1)
+
+
+def wheel_load_split(car: TwoAxleCar, a: float) -> np.ndarray:
+    """Loads of the four wheels [N] at the acceleration ``a`` (order :data:`WHEELS`)."""
+    f, r = car.wheel_loads(a)
+    return np.array([f, f, r, r])
+
+
+def simulate_two_track(car: TwoAxleCar, fx_over_fz, controllers, v0: float, v_stop: float,
+                       T_ambient: float, *, road_left=None, road_right=None,
+                       dt: float = 2e-4, t_max: float = 30.0) -> TwoTrackResult:
+    """Brake the four-wheel car from ``v0`` to ``v_stop`` [m/s], one controller per wheel.
+
+    Parameters
+    ----------
+    car
+        The car (its ``track`` is the yaw moment's lever).
+    fx_over_fz
+        Friction ``Fx/Fz(kappa, vx, Fz, T_K)`` broadcasting over numpy arrays (a
+        :class:`.ForceMap`, or a function of the kind), evaluated for the four wheels at once.
+    controllers
+        Four brake controllers in the order :data:`WHEELS` (rate per wheel: its axle's
+        share, :func:`axle_rates`); a wheel's torque is capped at its axle's share of
+        ``brake_torque_max``.
+    road_left, road_right
+        Friction factor against travelled distance of each side (:class:`.road.MuProfile`);
+        None: 1. Split-mu: ``road_left=MuProfile.uniform(1.0), road_right=MuProfile.uniform(
+        0.3)``.
+    dt
+        RK4 step [s]. The stiffest wheel mode, ``R^2 Fz (d mu/d kappa) / (J v)``, stays
+        below ~1e4 1/s down to 1 m/s for a passenger car, inside RK4's limit ``2.8 / dt``
+        at the default 0.2 ms.
+    t_max
+        Give up after this time [s].
+
+    The loads depend on the deceleration they produce: at each evaluation the friction is
+    taken at the loads of the current estimate of ``a`` and the linear equation
+    ``m a = sum_i Fz_i(a) mu_i`` solved for the new ``a``, until it settles (two or three
+    map calls; one more than the load dependence of the friction needs).
+    """
+    if not (v0 > v_stop > 0):
+        raise InputError("need v0 > v_stop > 0 m/s", field="v0, v_stop", value=(v0, v_stop))
+    controllers = tuple(controllers)
+    if len(controllers) != 4:
+        raise InputError("need four controllers (FL, FR, RL, RR)", field="controllers",
+                         value=len(controllers))
+    R, J, m = car.radius, car.wheel_inertia, car.mass
+    phi = car.brake_balance
+    cap = car.brake_torque_max / 2.0 * np.array([phi, phi, 1.0 - phi, 1.0 - phi])
+    L, h = car.wheelbase, car.cg_height
+    dFz = m * h / (2.0 * L) * np.array([-1.0, -1.0, 1.0, 1.0])   # dFz_i / da
+    left, right = road_left, road_right
+
+    def factors(x: float) -> np.ndarray:
+        fl = 1.0 if left is None else float(left(x))
+        fr = 1.0 if right is None else float(right(x))
+        return np.array([fl, fr, fl, fr])
+
+    def forces(x: float, v: float, w: np.ndarray):
+        f = factors(x)
+        kappa = (w * R - v) / v
+        a = 0.0
+        for _ in range(30):
+            Fz = wheel_load_split(car, a)
+            mu = np.asarray(fx_over_fz(kappa, v, Fz, T_ambient), dtype=float) * f
+            # m a = sum (Fz_i(a_k) + dFz_i (a - a_k)) mu_i, linear in a
+            a_new = float(np.sum((Fz - dFz * a) * mu) / (m - np.sum(dFz * mu)))
+            if abs(a_new - a) <= 1e-10 * (1.0 + abs(a)):
+                a = a_new
+                break
+            a = a_new
+        else:
+            raise ConvergenceError("load transfer did not converge")
+        Fz = wheel_load_split(car, a)
+        return a, Fz, kappa, mu, f
+
+    def rhs(y: np.ndarray, u: np.ndarray) -> np.ndarray:
+        w = np.maximum(y[2:6], 0.0)
+        a, Fz, _, mu, _ = forces(y[0], y[1], w)
+        dw = (-R * Fz * mu - y[6:10]) / J
+        # the brake is a friction torque: it holds a stopped wheel, never turns it backwards
+        dw[(w <= 0.0) & (dw < 0.0)] = 0.0
+        return np.concatenate(([y[1], a], dw, u))
+
+    y = np.concatenate(([0.0, v0], np.full(4, v0 / R), np.zeros(4)))
+    for c in controllers:
+        c.reset()
+    next_sample = np.zeros(4)
+    u = np.zeros(4)
+    t = 0.0
+    rec = []
+    while t < t_max:
+        for i, c in enumerate(controllers):
+            if t >= next_sample[i] - 1e-12:
+                u[i] = c.torque_rate(t, y[1], y[2 + i], y[6 + i])
+                next_sample[i] += c.control_period
+        a, Fz, kappa, mu, f = forces(y[0], y[1], y[2:6])
+        rec.append(np.concatenate(([t, y[0], y[1], a], y[2:6], y[6:10], kappa, mu, Fz, f)))
+        k1 = rhs(y, u)
+        k2 = rhs(y + 0.5 * dt * k1, u)
+        k3 = rhs(y + 0.5 * dt * k2, u)
+        k4 = rhs(y + dt * k3, u)
+        y_new = y + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        y_new[2:6] = np.maximum(y_new[2:6], 0.0)
+        y_new[6:10] = np.clip(y_new[6:10], 0.0, cap)
+        if y_new[1] <= v_stop:
+            s = (y[1] - v_stop) / (y[1] - y_new[1])
+            stop = y + s * (y_new - y)
+            stop[1] = v_stop
+            t_stop = t + s * dt
+            a, Fz, kappa, mu, f = forces(stop[0], v_stop, stop[2:6])
+            rec.append(np.concatenate(([t_stop, stop[0], v_stop, a], stop[2:6], stop[6:10],
+                                       kappa, mu, Fz, f)))
+            arr = np.array(rec)
+            Fx = arr[:, 20:24] * arr[:, 16:20]
+            return TwoTrackResult(
+                t=arr[:, 0], x=arr[:, 1], v=arr[:, 2], a=arr[:, 3], omega=arr[:, 4:8],
+                brake_torque=arr[:, 8:12], kappa=arr[:, 12:16], mu=arr[:, 16:20],
+                Fz=arr[:, 20:24], Fx=Fx, road=arr[:, 24:28],
+                yaw_moment=yaw_moment(car.track, Fx),
+                stopping_distance=float(stop[0]), stop_time=float(t_stop))
+        y = y_new
+        t += dt
+    raise ConvergenceError(f"the car did not reach {v_stop:g} m/s within {t_max:g} s")
+
+
+def wheel_rates(car: TwoAxleCar) -> tuple[float, float, float, float]:
+    """Brake torque rate of each wheel [N m/s] in the order :data:`WHEELS`."""
+    f, r = axle_rates(car)
+    return (f, f, r, r)
