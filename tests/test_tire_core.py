@@ -67,6 +67,18 @@ def _transient_fx(tire, grid, T_C: float, kappa: float, vx: float, Fz: float, al
     return out[-50:, :2].mean(axis=0) / Fz
 
 
+@pytest.mark.parametrize("T_C", [0.0, 20.0])
+def test_result_does_not_depend_on_the_outer_step(tire, grid, T_C) -> None:
+    """kappa -0.06, 27.8 m/s, 4 kN: the outer (lattice and belt) step of 1 ms, 0.25 ms (the
+    default) and 0.1 ms give the same force within 0.3 % of Fz. Elements leaving the patch
+    during a step are integrated up to the trailing edge and the pressure is normalised by
+    its time mean over the step; dropping the leavers' last part-step, as the core once did,
+    lost 3.4 % (0 C) and 8 % (20 C) of Fz at 1 ms."""
+    f = [_transient_fx(tire, grid, T_C, -0.06, 27.8, FZ, dt_internal=h)[0]
+         for h in (1e-3, 2.5e-4, 1e-4)]
+    assert max(f) - min(f) < 3e-3, f"{T_C} C: Fx/Fz at outer steps 1, 0.25, 0.1 ms: {f}"
+
+
 @pytest.mark.parametrize("T_C", [0.0, 20.0, 50.0])
 def test_defaults_are_converged_braking(tire, grid, T_C) -> None:
     """kappa -0.06, 27.8 m/s, 4 kN (the case whose old answer depended on the solver): the

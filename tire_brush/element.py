@@ -877,11 +877,28 @@ class RefTire:
         iac = 1.0 / (a - cf) if a > 0.0 else 0.0
         for i in range(L):
             x = x_top - i * dx
-            if not (a > 0.0 and area > 0.0 and -a < x < a):
+            e = self.el[i]
+            inside = a > 0.0 and area > 0.0 and -a < x < a
+            exiting = (not inside and a > 0.0 and area > 0.0 and e[6] != 0.0
+                       and ((V_r > 0.0 and x <= -a and x + V_r * h > -a)
+                            or (V_r < 0.0 and x >= a and x + V_r * h < a)))
+            if not inside and not exiting:
                 self.el[i] = [0.0] * N_ELEM
-            else:
+                continue
+            # time mean over the step of the element's pressure shape (Simpson over its
+            # contact within the step)
+            x0 = x + V_r * h
+            x1 = x
+            x0 = a if x0 > a else (-a if x0 < -a else x0)
+            x1 = a if x1 > a else (-a if x1 < -a else x1)
+            frac = (x0 - x1) / (V_r * h) if V_r != 0.0 else 1.0
+            wm = (shape(cf, iac, x0) + 4.0 * shape(cf, iac, 0.5 * (x0 + x1))
+                  + shape(cf, iac, x1)) / 6.0
+            if V_r == 0.0:
+                wm = shape(cf, iac, x1)
+            if inside:
                 any_in = True
-                wsum += shape(cf, iac, x)
+            wsum += frac * wm
         if not wsum > 0.0:
             any_in = False
         if not any_in:
@@ -928,6 +945,21 @@ class RefTire:
             x = x_top - i * dx
             e = self.el[i]
             if not (-a < x < a):
+                if e[6] == 0.0:
+                    continue
+                # left the patch during the step: integrated up to the trailing edge
+                xe = -a if V_r > 0.0 else a
+                h_x = (x + V_r * h - xe) / V_r
+                if not h_x > 0.0:
+                    self.el[i] = [0.0] * N_ELEM
+                    continue
+                energy, _, _, _, _, _, st, jx, jy, jm, _ = integrate(c, e, xe, h_x)
+                self.work += st
+                Jx += jx
+                Jy += jy
+                Jm += jm
+                heat += energy
+                self.el[i] = [0.0] * N_ELEM
                 continue
             h_e = h
             if e[6] == 0.0:                       # enters: tip moving with the belt

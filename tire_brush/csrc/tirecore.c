@@ -1010,12 +1010,27 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     for (int i = 0; i < L; i++) {
         double x = x_top - i * dx;
         double *e = tire->el + (size_t)i * TF_ELEM;
-        if (!(a > 0.0 && area > 0.0 && x < a && x > -a)) {
+        int inside = a > 0.0 && area > 0.0 && x < a && x > -a;
+        int exiting = !inside && a > 0.0 && area > 0.0 && e[6] != 0.0 &&
+                      ((V_r > 0.0 && x <= -a && x + V_r * h > -a) ||
+                       (V_r < 0.0 && x >= a && x + V_r * h < a));
+        if (!inside && !exiting) {
             memset(e, 0, sizeof(double) * TF_ELEM);
-        } else {
-            any = 1;
-            wsum += shape(cf, iac, x);
+            continue;
         }
+        /* time mean over the step of the element's pressure shape (Simpson over its
+         * contact within the step) */
+        double x0 = x + V_r * h, x1 = x;
+        if (x0 > a) x0 = a;
+        if (x0 < -a) x0 = -a;
+        if (x1 > a) x1 = a;
+        if (x1 < -a) x1 = -a;
+        double frac = V_r != 0.0 ? (x0 - x1) / (V_r * h) : 1.0;
+        double wm = (shape(cf, iac, x0) + 4.0 * shape(cf, iac, 0.5 * (x0 + x1)) +
+                     shape(cf, iac, x1)) / 6.0;
+        if (V_r == 0.0) wm = shape(cf, iac, x1);
+        if (inside) any = 1;
+        wsum += frac * wm;
     }
     if (!(wsum > 0.0)) any = 0;
     if (!any) {
@@ -1072,7 +1087,22 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     for (int i = 0; i < L; i++) {
         double x = x_top - i * dx;
         double *e = tire->el + (size_t)i * TF_ELEM;
-        if (!(x < a && x > -a)) continue;
+        if (!(x < a && x > -a)) {
+            if (e[6] == 0.0) continue;
+            /* left the patch during the step: integrated up to the trailing edge */
+            double xe = V_r > 0.0 ? -a : a;
+            double h_x = (x + V_r * h - xe) / V_r;
+            if (!(h_x > 0.0)) { memset(e, 0, sizeof(double) * TF_ELEM); continue; }
+            tf_eres rx;
+            integrate(&c, e, xe, h_x, &rx);
+            tire->work += rx.steps;
+            Jx += rx.Jx;
+            Jy += rx.Jy;
+            Jm += rx.Jm;
+            heat += rx.energy;
+            memset(e, 0, sizeof(double) * TF_ELEM);
+            continue;
+        }
         double h_e = h;
         if (e[6] == 0.0) {                        /* enters: tip moving with the belt */
             if (V_r > 0.0) h_e = (a - x) / V_r;
