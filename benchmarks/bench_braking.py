@@ -135,6 +135,8 @@ def bench_study_ocp(study: str, repeat: int) -> list[dict]:
             except ConvergenceError as exc:
                 tried = getattr(exc, "tried", {})
             for start, info in tried.items():
+                if "skipped" in info:
+                    continue
                 d = per_start.setdefault(start, {"solve": [], "setup": [], "iter": [],
                                                  "dist": [], "failed": 0})
                 if "failed" in info:
