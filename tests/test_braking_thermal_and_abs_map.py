@@ -130,6 +130,32 @@ def test_ocp_from_the_locked_start_finds_the_same_optimum_on_a_fixed_curve(tmp_p
     assert best.stopping_distance < locked.stopping_distance
 
 
+def test_starts_after_a_verified_optimum_are_skipped():
+    """``[ocp] stop_when_verified``: once a start's optimum passes the optimality checks the
+    remaining starts are not solved (listed as skipped). (Without the setting every start is
+    solved: test_ocp_from_the_locked_start_finds_the_same_optimum_on_a_fixed_curve.)"""
+    spec = load_study("abs_analytic")
+    spec = replace(spec, v0=50 / 3.6, ocp=replace(spec.ocp, intervals=20, coarse_intervals=0),
+                   ocp_starts=("deceleration", "locked"))
+    case = next(c for c in spec.cases if c.road == "snow")
+    fmap = snow_map()
+    calls = []
+
+    def verify(res):
+        calls.append(res.stopping_distance)
+        return True
+
+    on = replace(spec, ocp_stop_when_verified=True)
+    # no locked-wheel simulation: the locked start is never solved
+    best, start, tried = solve_ocp_from_starts(on, case, fmap, None, verify=verify)
+    assert start == "deceleration" and tried["deceleration"]["verified"]
+    assert "skipped" in tried["locked"] and len(calls) == 1, tried
+    assert best.stopping_distance == tried["deceleration"]["stopping_distance"]
+    text = (models_dir() / "studies" / "abs_default.toml").read_text()
+    assert load_study("abs_default").ocp_stop_when_verified == (
+        "stop_when_verified = true" in text)
+
+
 def test_spec_reads_the_new_keys_and_refuses_misuse(tmp_path):
     spec = load_study("abs_default")
     assert spec.abs_slip_from_map and spec.fmu_abs and spec.ocp_starts == (

@@ -32,8 +32,9 @@ snow) and Magic Formula (dry, wet) curves from 100 km/h with the shipped passeng
 the stopping distance then stays within 3 to 7 % of the point-mass bound on all five. They are
 a calibration, like a production ABS's: other tires and vehicles may want others. A fixed
 slip threshold does not carry over to a tire whose mu-slip curve peaks at a much smaller slip
-and falls steeply beyond it (the brush tire on the default grid at 0 C: peak at 6 % slip, 25 %
-less friction at 10 %); ``slip_schedule`` then sets the release slip per speed from the slip
+and falls steeply beyond it (the passenger brush tire on the default grid at 0 C: peak at 4 %
+slip above 10 m/s, 8 % less friction at 6 %, a second maximum at 20-25 % slip below 10 m/s);
+``slip_schedule`` then sets the release slip per speed from the slip
 map of the tire and road (:func:`tire_brush.braking.study.abs_slip_schedule`), which is how
 production calibrations are made per tire and road.
 
