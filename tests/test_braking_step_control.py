@@ -16,10 +16,8 @@ import pytest
 from tire_brush.braking import (
     ABSParams,
     ForceMap,
-    LockedWheel,
     QuarterCar,
     RealisticABS,
-    RuleBasedABS,
     SimSettings,
     default_axes,
     simulate_braking,
