@@ -160,6 +160,26 @@ class TwoAxleResult:
     stop_time: float
 
 
+
+def _sample_controllers(controllers, t: float, next_sample: np.ndarray, u: np.ndarray,
+                        v: float, omega: np.ndarray, torque: np.ndarray) -> None:
+    """Update the torque rates ``u`` of the controllers whose sample time has come (each at
+    its own ``control_period``; ``next_sample`` advances in place)."""
+    for i, c in enumerate(controllers):
+        if t >= next_sample[i] - 1e-12:
+            u[i] = c.torque_rate(t, v, omega[i], torque[i])
+            next_sample[i] += c.control_period
+
+
+def _rk4(rhs, y: np.ndarray, u: np.ndarray, dt: float) -> np.ndarray:
+    """One classical Runge-Kutta step of ``y' = rhs(y, u)`` with ``u`` held."""
+    k1 = rhs(y, u)
+    k2 = rhs(y + 0.5 * dt * k1, u)
+    k3 = rhs(y + 0.5 * dt * k2, u)
+    k4 = rhs(y + dt * k3, u)
+    return y + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+
 def simulate_two_axle(car: TwoAxleCar, fx_over_fz: FxOverFz,
                       controllers: tuple[BrakeController, BrakeController], v0: float,
                       v_stop: float, T_ambient: float, *, dt: float = 1e-4,
@@ -206,23 +226,15 @@ def simulate_two_axle(car: TwoAxleCar, fx_over_fz: FxOverFz,
     y = np.array([0.0, v0, v0 / R, v0 / R, 0.0, 0.0])
     for c in controllers:
         c.reset()
-    periods = [c.control_period for c in controllers]
-    next_sample = [0.0, 0.0]
+    next_sample = np.zeros(2)
     u = np.zeros(2)
     t = 0.0
     rec = []
     while t < t_max:
-        for i, c in enumerate(controllers):
-            if t >= next_sample[i] - 1e-12:
-                u[i] = c.torque_rate(t, y[1], y[2 + i], y[4 + i])
-                next_sample[i] += periods[i]
+        _sample_controllers(controllers, t, next_sample, u, y[1], y[2:4], y[4:6])
         a, Fz, kappa, mu = forces(y[1], y[2:4])
         rec.append((t, y[0], y[1], y[2], y[3], y[4], y[5], *kappa, *mu, *Fz, a))
-        k1 = rhs(y, u)
-        k2 = rhs(y + 0.5 * dt * k1, u)
-        k3 = rhs(y + 0.5 * dt * k2, u)
-        k4 = rhs(y + dt * k3, u)
-        y_new = y + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        y_new = _rk4(rhs, y, u, dt)
         y_new[2:4] = np.maximum(y_new[2:4], 0.0)
         y_new[4] = min(max(y_new[4], 0.0), T_cap[0])
         y_new[5] = min(max(y_new[5], 0.0), T_cap[1])
@@ -394,17 +406,10 @@ def simulate_two_track(car: TwoAxleCar, fx_over_fz, controllers, v0: float, v_st
     t = 0.0
     rec = []
     while t < t_max:
-        for i, c in enumerate(controllers):
-            if t >= next_sample[i] - 1e-12:
-                u[i] = c.torque_rate(t, y[1], y[2 + i], y[6 + i])
-                next_sample[i] += c.control_period
+        _sample_controllers(controllers, t, next_sample, u, y[1], y[2:6], y[6:10])
         a, Fz, kappa, mu, f = forces(y[0], y[1], y[2:6])
         rec.append(np.concatenate(([t, y[0], y[1], a], y[2:6], y[6:10], kappa, mu, Fz, f)))
-        k1 = rhs(y, u)
-        k2 = rhs(y + 0.5 * dt * k1, u)
-        k3 = rhs(y + 0.5 * dt * k2, u)
-        k4 = rhs(y + dt * k3, u)
-        y_new = y + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        y_new = _rk4(rhs, y, u, dt)
         y_new[2:6] = np.maximum(y_new[2:6], 0.0)
         y_new[6:10] = np.clip(y_new[6:10], 0.0, cap)
         if y_new[1] <= v_stop:
