@@ -2,7 +2,7 @@
  *
  * Built and run by bench_brush.py, which writes the friction table and the parameters to a
  * binary file: int nv, nT, np; double log10_v[nv], T[nT], log10_p[np], values[nv*nT*np*3],
- * inv_s0; tf_params (as the struct); int n_warm, n_steps, n_tires; double in[6], dt.
+ * inv_s0; tf_params (as the struct); int n_warm, n_steps, n_tires; double in[TF_NIN], dt.
  * Prints the median and 90th percentile of the wall time per step [us] over n_steps steps,
  * each step advancing n_tires tires. */
 #define _POSIX_C_SOURCE 199309L
@@ -37,10 +37,10 @@ int main(int argc, char **argv) {
     }
     tf_params p;
     int cfg[3];
-    double in[6], dt;
+    double in[TF_NIN], dt;
     if (fread(val, sizeof(double), nval, f) != nval || fread(&inv_s0, sizeof(double), 1, f) != 1 ||
         fread(&p, sizeof p, 1, f) != 1 || fread(cfg, sizeof(int), 3, f) != 3 ||
-        fread(in, sizeof(double), 6, f) != 6 || fread(&dt, sizeof(double), 1, f) != 1)
+        fread(in, sizeof(double), TF_NIN, f) != TF_NIN || fread(&dt, sizeof(double), 1, f) != 1)
         return 2;
     fclose(f);
     tf_table *t = tf_table_new(n[0], n[1], n[2], ax[0], ax[1], ax[2], val, inv_s0);

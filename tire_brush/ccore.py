@@ -45,7 +45,7 @@ CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math", "-fPIC", "-s
 #: API and state version the binding expects (``TF_VERSION`` in ``tirecore.h``).
 API_VERSION = 3
 #: Outputs, element columns and steady columns (``tirecore.h``).
-N_OUT, N_ELEM, STEADY_IN, STEADY_OUT = 10, 7, 4, 8
+N_IN, N_OUT, N_ELEM, STEADY_IN, STEADY_OUT = 7, 12, 7, 5, 8
 
 _lock = threading.Lock()
 _lib: ctypes.CDLL | None = None
@@ -64,7 +64,8 @@ class Params(ctypes.Structure):
         "R_e", "Fz_nom", "R0", "width", "C_z", "q_ra1", "q_ra2", "q_rb1", "q_rb2", "Fz_max",
         "p_inflation", "p_nom", "p_fz1", "end_zone",
         "k_x", "k_y", "mass", "d_x", "d_y", "void_ratio")] + [("rigid", ctypes.c_int)] + [
-        (n, ctypes.c_double) for n in ("kc_x", "kc_y", "dc_x", "dc_y", "kc_psi", "dc_psi")] + [
+        (n, ctypes.c_double) for n in ("kc_x", "kc_y", "dc_x", "dc_y", "kc_psi", "dc_psi",
+                                       "camber_reduction")] + [
         ("thermal", ctypes.c_int)] + [
         (n, ctypes.c_double) for n in ("heat_capacity", "conductance", "heat_fraction")] + [
         ("n_elements", ctypes.c_int), ("dt_internal", ctypes.c_double),
@@ -179,6 +180,7 @@ def _declare(lib: ctypes.CDLL) -> None:
         "tf_tire_get_state": (None, [vp, dp]),
         "tf_tire_set_state": (ctypes.c_int, [vp, dp]),
         "tf_tire_work": (ctypes.c_double, [vp]),
+        "tf_tire_set_rolling": (ctypes.c_int, [vp, vp]),
         "tf_steady": (ctypes.c_int, [pp, vp, ctypes.c_int, ctypes.c_int, dp, ctypes.c_double,
                                      ctypes.c_double, dp]),
     }
@@ -259,6 +261,7 @@ def core_params(params, *, n_elements: int, dt_internal: float, tol: float, v_fl
     P.rigid = int(bool(rigid))
     P.kc_x, P.kc_y, P.dc_x, P.dc_y = c.k_x, c.k_y, c.d_x, c.d_y
     P.kc_psi, P.dc_psi = c.k_psi, c.d_psi
+    P.camber_reduction = c.camber_reduction
     th = params.thermal
     P.thermal = int(bool(thermal))
     P.heat_capacity, P.conductance, P.heat_fraction = (th.heat_capacity, th.conductance,

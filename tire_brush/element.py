@@ -68,10 +68,16 @@ V_ROLL_MIN = 1e-6
 #: Columns of one element: u_x, u_y, w_x, w_y, s, proposed sub-step, in contact.
 N_ELEM = 7
 #: Head of the state vector (version, lattice size, x_top, belt deflection and velocity,
-#: tread force, tread temperature, time, 10 outputs, belt yaw angle, yaw rate, tread moment).
-STATE_HEAD = 24
+#: tread force, tread temperature, time, 12 outputs, belt yaw angle, yaw rate, tread moment,
+#: spin of the base from camber).
+STATE_HEAD = 27
 #: State layout version.
-STATE_VERSION = 3
+STATE_VERSION = 4
+#: Number of outputs of a step (``TF_NOUT``): Fx, Fy, Mz, kappa, alpha, mu_eff, mu_slide,
+#: sliding_fraction, dT_flash_max, T_tread, Mx, My.
+N_OUT = 12
+#: pi / 2: the inclination angle is refused at or beyond it.
+HALF_PI = 1.5707963267948966
 LN10 = 2.302585092994046
 #: Relative margin of the bounds of the node walk (tirecore.c, WALK_MARGIN): a node skipped as
 #: "R < 0" (or "R >= 0") has |R| > 1e-7, far above the rounding of its evaluation.
@@ -657,8 +663,10 @@ def _cbrt(x: float) -> float:
 
 
 def _steady_march(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float, Fz: float,
-                  a: float, b: float, T: float, mu_scale: float) -> tuple[list[float], float]:
-    """One steady march with the belt unyawed (``steady_march`` of the core): the outputs of
+                  a: float, b: float, T: float, mu_scale: float,
+                  wc: float) -> tuple[list[float], float]:
+    """One steady march with the belt unyawed and its base spinning at ``wc`` (camber, for
+    the march's direction of travel; ``steady_march`` of the core): the outputs of
     :func:`steady_point` and the moment of the tread's stress on the belt [N m] (the friction
     moment less that of the momentum the tread carries through the patch)."""
     out = [0.0] * 8
@@ -667,7 +675,8 @@ def _steady_march(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: floa
     cf = flat_half_length(p, Fz, a, b)
     mean = (cf + (2.0 / 3.0) * (a - cf)) / a
     c = Ctx(p, t, T, Fz, a, b, cf, Fz / (2.0 * a * b * mean), mu_scale, Vsx, Vsy, vr)
-    e = [0.0, 0.0, Vsx, Vsy, 0.0, 0.0, 1.0]
+    c.wpsi = wc
+    e = [0.0, 0.0, Vsx, Vsy + a * wc, 0.0, 0.0, 1.0]
     Jx = Jy = Jm = Jt = nsl = fsl = psl = dTm = steps = 0.0
     x_prev = a
     # followed to the trailing edge; the forces are the friction impulse over the transit
@@ -704,23 +713,26 @@ YAW_MAX_IT = 60
 
 
 def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float, Fz: float,
-                 T: float, mu_scale: float) -> list[float]:
+                 T: float, mu_scale: float, gamma: float = 0.0) -> list[float]:
     """Steady state of one operating point: one element marched through the patch, the
     stress sampled at ``n_cells`` cell midpoints (``tf_steady`` of the core). Unless the
     carcass is rigid, the belt yaws by ``psi = M_belt / kc_psi`` (``M_belt`` the moment of the
     tread's stress on it) and the tread sees the lateral slip speed ``Vsy - V_r psi``
     (Pacejka 2012, sec. 3.3): ``g(psi) = M_belt(psi)/kc_psi - psi`` is bracketed from 0 and
-    its root found by the Illinois variant of regula falsi.
+    its root found by the Illinois variant of regula falsi. Camber ``gamma`` [rad] spins the
+    base at ``-(1 - eps) (|V_r| / R_e) sin(gamma)`` (``p.camber_reduction = eps``; the march
+    runs forward, and for ``V_r < 0`` it is the mirror image).
 
     Returns
     -------
     list
         ``[Fx, Fy, Mz, mu_eff, mu_slide, sliding_fraction, dT_flash_max, sub-steps]``.
     """
+    wc = -(1.0 - p.camber_reduction) * (abs(Vr) / p.R_e) * math.sin(gamma)
     a, b = patch_size(p, Fz)
     if not (a > 0.0 and b > 0.0):
         return [0.0] * 8
-    o, Mb = _steady_march(p, t, n_cells, Vsx, Vsy, Vr, Fz, a, b, T, mu_scale)
+    o, Mb = _steady_march(p, t, n_cells, Vsx, Vsy, Vr, Fz, a, b, T, mu_scale, wc)
     if p.rigid or Mb == 0.0:
         return o
     steps = o[7]
@@ -728,7 +740,8 @@ def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float
     hi = glo
     it = 0
     while True:
-        oh, Mh = _steady_march(p, t, n_cells, Vsx, Vsy - Vr * hi, Vr, Fz, a, b, T, mu_scale)
+        oh, Mh = _steady_march(p, t, n_cells, Vsx, Vsy - Vr * hi, Vr, Fz, a, b, T, mu_scale,
+                               wc)
         steps += oh[7]
         it += 1
         ghi = Mh / p.kc_psi - hi
@@ -739,7 +752,7 @@ def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float
     o = oh
     while ghi != 0.0 and it < YAW_MAX_IT and abs(hi - lo) > 1e-12 + 1e-9 * abs(hi):
         x = hi - ghi * (hi - lo) / (ghi - glo)
-        o, Mx = _steady_march(p, t, n_cells, Vsx, Vsy - Vr * x, Vr, Fz, a, b, T, mu_scale)
+        o, Mx = _steady_march(p, t, n_cells, Vsx, Vsy - Vr * x, Vr, Fz, a, b, T, mu_scale, wc)
         steps += o[7]
         it += 1
         gx = Mx / p.kc_psi - x
@@ -773,7 +786,38 @@ class RefTire:
         self.dx = 2.0 * a_nom / p.n_elements
         self.L = math.ceil(2.0 * self.a_max / self.dx) + 2
         self.work = 0.0
+        self.rr: RefTable | None = None
         self.reset(math.nan)
+
+    def set_rolling(self, rr: RefTable | None) -> None:
+        """Rolling resistance table (``tf_tire_set_rolling``): axes (log10 |V_r|, T_tread,
+        log10 Fz), node values (f_r, tread share, unused)."""
+        self.rr = rr
+
+    def _rolling(self, vr: float, T: float, Fz: float) -> tuple[float, float]:
+        """``rolling`` of the core: trilinear, clamped, proportional to |V_r| below the
+        first speed node."""
+        rr = self.rr
+        v0 = rr.vnode[0]
+        scale = 1.0
+        if vr < v0:
+            scale = vr / v0
+            vr = v0
+        iv, fv = rr.locate(0, math.log10(vr))
+        iT, fT = rr.locate(1, T)
+        ip, fp = rr.locate(2, math.log10(Fz))
+        nT, n_p = rr.n[1], rr.n[2]
+        acc0 = acc1 = 0.0
+        for c in range(8):
+            dv, dT, dp = c >> 2, (c >> 1) & 1, c & 1
+            w = ((fv if dv else 1.0 - fv) * (fT if dT else 1.0 - fT)
+                 * (fp if dp else 1.0 - fp))
+            if w == 0.0:
+                continue
+            q = (((iv + dv) * nT + iT + dT) * n_p + ip + dp) * 3
+            acc0 += w * rr.val[q]
+            acc1 += w * rr.val[q + 1]
+        return scale * acc0, acc1
 
     def reset(self, T_tread: float) -> None:
         """Undeflected tire at rest."""
@@ -782,15 +826,16 @@ class RefTire:
         self.delta = [0.0, 0.0]
         self.Vb = [0.0, 0.0]
         self.F = [0.0, 0.0]
-        self.psi = self.wpsi = self.M = 0.0
+        self.psi = self.wpsi = self.M = self.wc = 0.0
         self.T_tread = T_tread
         self.time = 0.0
-        self.out = [0.0] * 10
+        self.out = [0.0] * N_OUT
 
     def get_state(self) -> list[float]:
         """State vector in the core's layout."""
         return ([float(STATE_VERSION), float(self.L), self.x_top, *self.delta, *self.Vb,
-                 *self.F, self.T_tread, self.time, *self.out, self.psi, self.wpsi, self.M]
+                 *self.F, self.T_tread, self.time, *self.out, self.psi, self.wpsi, self.M,
+                 self.wc]
                 + [x for e in self.el for x in e])
 
     def set_state(self, buf) -> None:
@@ -801,8 +846,8 @@ class RefTire:
         self.Vb = buf[5:7]
         self.F = buf[7:9]
         self.T_tread, self.time = buf[9], buf[10]
-        self.out = buf[11:21]
-        self.psi, self.wpsi, self.M = buf[21], buf[22], buf[23]
+        self.out = buf[11:11 + N_OUT]
+        self.psi, self.wpsi, self.M, self.wc = buf[23], buf[24], buf[25], buf[26]
         self.el = [buf[STATE_HEAD + i * N_ELEM:STATE_HEAD + (i + 1) * N_ELEM]
                    for i in range(self.L)]
 
@@ -853,7 +898,7 @@ class RefTire:
             s2 += x * (x * (kdy * ry))
         return jx, jy, s1, s2
 
-    def _advance(self, h, Vsx, Vsy, V_r, Fz, a, b, Ts, mus) -> list[float]:
+    def _advance(self, h, Vsx, Vsy, V_r, Fz, a, b, Ts, mus, wc, q_roll) -> list[float]:
         p = self.p
         dx, L = self.dx, self.L
         x_top = self.x_top - V_r * h
@@ -908,6 +953,7 @@ class RefTire:
                 self.psi *= p.dc_psi / (p.kc_psi * h + p.dc_psi)
             self.Vb = [Vsx, Vsy - V_r * self.psi]
             self.wpsi = 0.0
+            self.wc = wc
             self.F = [0.0, 0.0]
             self.M = 0.0
             if p.thermal:
@@ -918,7 +964,9 @@ class RefTire:
         Vbx, Vby, wpsi = Vsx, Vsy, 0.0
         if not p.rigid:
             # belt translation and yaw, linearly implicit (docs/tire-core.md, "belt"): the
-            # base of element i moves at Vby + x_i wpsi laterally, Vby = Vsy + uy - V_r psi
+            # base of element i moves at Vby + x_i (wpsi + wc) laterally, Vby = Vsy + uy -
+            # V_r psi, wc the spin from camber; the tread force is linearised in the change
+            # of the total spin, hence wpsi_n + wc_n - wc below
             Jx, Jy, S1, S2 = self._tread_stiffness(c, h)
             Jx *= area
             Jy *= area
@@ -931,15 +979,16 @@ class RefTire:
             a12 = S1 - V_r * h * Jy
             a21 = S1
             a22 = p.kc_psi * h + p.dc_psi + S2 - V_r * h * S1
-            b1 = self.F[1] - p.kc_y * self.delta[1] - Jy * D0 + S1 * self.wpsi
-            b2 = self.M - p.kc_psi * self.psi - S1 * D0 + S2 * self.wpsi
+            wn = self.wpsi + (self.wc - wc)
+            b1 = self.F[1] - p.kc_y * self.delta[1] - Jy * D0 + S1 * wn
+            b2 = self.M - p.kc_psi * self.psi - S1 * D0 + S2 * wn
             det = a11 * a22 - a12 * a21
             uy = (b1 * a22 - a12 * b2) / det
             wpsi = (a11 * b2 - a21 * b1) / det
             self.delta = [self.delta[0] + h * ux, self.delta[1] + h * uy]
             self.psi += h * wpsi
             Vbx, Vby = Vsx + ux, (Vsy + uy) - V_r * self.psi
-        c.Vbx, c.Vby, c.wpsi = Vbx, Vby, wpsi
+        c.Vbx, c.Vby, c.wpsi = Vbx, Vby, wpsi + wc
         Jx = Jy = Jm = heat = nsl = fsl = psl = dTm = n_in = Tx = Ty = Tm = 0.0
         for i in range(L):
             x = x_top - i * dx
@@ -970,11 +1019,11 @@ class RefTire:
                 if h_e > h:
                     h_e = h
                 x_in = x + V_r * h_e              # where it entered
-                e[:] = [0.0, 0.0, Vbx, Vby + x_in * wpsi, 0.0, h_e, 1.0]
+                e[:] = [0.0, 0.0, Vbx, Vby + x_in * c.wpsi, 0.0, h_e, 1.0]
             energy, V, P, E, dT, pe, st, jx, jy, jm, _ = integrate(c, e, x, h_e)
             self.work += st
             Tx += c.kx * e[0] + c.dx * (e[2] - Vbx)
-            ty = c.ky * e[1] + c.dy * (e[3] - (Vby + x * wpsi))
+            ty = c.ky * e[1] + c.dy * (e[3] - (Vby + x * c.wpsi))
             Ty += ty
             Tm += x * ty
             Jx += jx
@@ -991,17 +1040,21 @@ class RefTire:
                     dTm = d
         self.Vb = [Vbx, Vby]
         self.wpsi = wpsi
+        self.wc = wc
         self.F = [Tx * area, Ty * area]
         self.M = Tm * area
         if p.thermal:
+            # friction heat (its share heat_fraction enters the rubber) and the tread's share
+            # of the rolling loss q_roll [W], generated inside the tread
             Q = heat * area
-            self.T_tread = (self.T_tread + (p.heat_fraction * Q + h * p.conductance * Ts)
+            self.T_tread = (self.T_tread + (p.heat_fraction * Q + h * q_roll
+                                            + h * p.conductance * Ts)
                             / p.heat_capacity) / (1.0 + h * p.conductance / p.heat_capacity)
         return [1.0, 0.0, nsl / n_in, fsl / psl if psl > 0.0 else 0.0, dTm, Jx * area,
                 Jy * area, Jm * area]
 
     def step(self, dt: float, vx: float, vy: float, omega: float, Fz: float, Ts: float,
-             mus: float) -> list[float]:
+             mus: float, gamma: float = 0.0) -> list[float]:
         """Advance by ``dt`` [s] (``tf_tire_step``); inputs must be valid."""
         p = self.p
         if math.isnan(self.T_tread):
@@ -1016,10 +1069,17 @@ class RefTire:
                 Fz = 0.0
             V_r = omega * p.R_e
             a, b = patch_size(p, Fz)
+            # camber: the base spins at -(1 - eps) omega sin(gamma)
+            wc = -(1.0 - p.camber_reduction) * omega * math.sin(gamma)
+            # rolling resistance at the start of the step, held over it
+            f_r = share = 0.0
+            if self.rr is not None and Fz > 0.0:
+                f_r, share = self._rolling(abs(V_r), self.T_tread if p.thermal else Ts, Fz)
+            q_roll = share * f_r * Fz * abs(V_r)
             fin = [0.0]
             Ix = Iy = Im = 0.0
             for _ in range(n_sub):
-                fin = self._advance(h, vx - V_r, vy, V_r, Fz, a, b, Ts, mus)
+                fin = self._advance(h, vx - V_r, vy, V_r, Fz, a, b, Ts, mus, wc, q_roll)
                 Ix += fin[5]
                 Iy += fin[6]
                 Im += fin[7]
@@ -1047,4 +1107,9 @@ class RefTire:
             else:
                 o[6], o[7], o[8] = fin[3], fin[2], fin[4]
             o[3], o[4], o[9] = kappa, alpha, T0
+            # overturning moment of the load, shifted sideways by the belt's deflection,
+            # about the contact centre; rolling resistance moment against the spin
+            o[10] = 0.0 if p.rigid else -self.delta[1] * Fz
+            sgn = 1.0 if V_r > 0.0 else (-1.0 if V_r < 0.0 else 0.0)
+            o[11] = sgn * (f_r * Fz * p.R_e)
         return list(self.out)

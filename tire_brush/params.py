@@ -43,13 +43,18 @@ def _check(obj: object, name: str, *, positive: bool = False, nonnegative: bool 
 
 def _param(unit: str | None, dimension: str | None, description: str, *,
            positive: bool = False, nonnegative: bool = False,
-           maximum: float | None = None, toml_default: bool | None = None) -> object:
+           maximum: float | None = None, toml_default: bool | None = None,
+           default: float | None = None) -> object:
     """A parameter field carrying, once, what every user of it needs: the FMU unit (``None``
     for a boolean), the dimension of :data:`lookup.config.UNITS` the TOML value is read in,
-    the description (FMU variable table, docs) and the bounds (validation, TOML loader)."""
-    return field(metadata={"unit": unit, "dimension": dimension, "description": description,
-                           "bounds": {"positive": positive, "nonnegative": nonnegative,
-                                      "maximum": maximum}, "toml_default": toml_default})
+    the description (FMU variable table, docs) and the bounds (validation, TOML loader).
+    ``default`` is the value when the class is built in code without it (a tire file must
+    still give it)."""
+    extra = {} if default is None else {"default": default}
+    return field(**extra, metadata={
+        "unit": unit, "dimension": dimension, "description": description,
+        "bounds": {"positive": positive, "nonnegative": nonnegative, "maximum": maximum},
+        "toml_default": toml_default})
 
 
 def _validate(obj: object) -> list[InputError]:
@@ -254,6 +259,14 @@ class CarcassParams:
     ``C / (1 + C t / k_psi)`` saturates and then falls as the load grows. ``rigid = true``
     removes both.
 
+    Camber: the base line of a thin disk tilted by ``gamma`` and pressed on the road curves
+    with ``sin(gamma) / R``, so the base of the tread spins at ``-omega sin(gamma)`` as the
+    wheel rolls and the brush produces the camber thrust ``(2/3) c_py a^3 sin(gamma) / R_e``
+    (parabolic pressure, no sliding; Pacejka 2012, ch. 3, the brush model with camber). A
+    real belt does not follow that curvature in full; the share it does not follow is the
+    camber reduction ``eps`` (Pacejka's ``epsilon_gamma``, ch. 4): the spin is ``-(1 - eps)
+    omega sin(gamma)``.
+
     Attributes
     ----------
     rigid : bool
@@ -264,6 +277,8 @@ class CarcassParams:
         Longitudinal and lateral damping [N s/m].
     k_psi, d_psi : float
         Yaw (twist) stiffness [N m/rad] and damping [N m s/rad].
+    camber_reduction : float
+        Camber reduction ``eps`` in [0, 1] [1]: 0 is the thin disk (Pacejka's brush).
     """
 
     rigid: bool = _param(None, None, "Rigid carcass: no belt deflection", toml_default=False)
@@ -280,6 +295,9 @@ class CarcassParams:
     d_psi: float = _param(
         "N.m.s/rad", "rotational_damping", "Yaw (twist) damping of the belt [N.m.s/rad]",
         nonnegative=True)
+    camber_reduction: float = _param(
+        "1", "dimensionless", "Camber reduction eps: the base of the tread spins at "
+        "-(1 - eps) omega sin(gamma) [1]", nonnegative=True, maximum=1.0, default=0.0)
 
     def __post_init__(self) -> None:
         _raise(_validate(self))

@@ -30,6 +30,7 @@ V_FLOOR = 0.1
 OUTPUT_UNITS: dict[str, str] = {
     "Fx": "N", "Fy": "N", "Mz": "N.m", "kappa": "1", "alpha": "rad", "mu_eff": "1",
     "mu_slide": "1", "sliding_fraction": "1", "dT_flash_max": "K", "T_tread": "K",
+    "Mx": "N.m", "My": "N.m",
 }
 
 
@@ -79,6 +80,14 @@ class BrushOutputs:
         element's slip speed times its developed share ``1 - exp(-s/s0)``.
     T_tread : float or ndarray
         Background (tread) temperature the friction was read at [K].
+    Mx : float or ndarray
+        Overturning moment about the x axis through the contact centre [N m]: the load
+        shifted sideways by the belt's lateral deflection ``delta_y``, ``Mx = -delta_y Fz``
+        (0 with a rigid carcass). Same sign in ISO-W and adapted SAE (docs/axes.md).
+    My : float or ndarray
+        Rolling resistance moment [N m], ``f_r Fz R_e`` against the spin (adapted SAE:
+        positive when rolling forward; ISO-W flips it), 0 without a rolling-resistance
+        model.
     """
 
     Fx: float | np.ndarray
@@ -91,6 +100,8 @@ class BrushOutputs:
     sliding_fraction: float | np.ndarray
     dT_flash_max: float | np.ndarray
     T_tread: float | np.ndarray
+    Mx: float | np.ndarray = 0.0
+    My: float | np.ndarray = 0.0
 
     def as_dict(self) -> dict:
         """Name -> value (floats, or lists for arrays), in :data:`OUTPUT_UNITS` order."""

@@ -88,10 +88,11 @@ class SteadyBrush:
         self.tol = float(tol)
         self.massless = bool(massless)
         self.backend = backend
+        self.rigid_carcass = (params.carcass.rigid if rigid_carcass is None
+                              else bool(rigid_carcass))
         self._P = ccore.core_params(params, n_elements=n_elements, dt_internal=1.0, tol=tol,
-                                    v_floor=V_FLOOR, thermal=False,
-                                    rigid=(params.carcass.rigid if rigid_carcass is None
-                                           else rigid_carcass), massless=massless)
+                                    v_floor=V_FLOOR, thermal=False, rigid=self.rigid_carcass,
+                                    massless=massless)
         if backend == "c":
             self._lib = ccore.load()
             self._ctab = ccore.core_table(self.table)
@@ -100,10 +101,11 @@ class SteadyBrush:
             self._rtab = RefTable(t.log10_v, t.T, t.log10_p, t.values, t.inv_s0)
 
     def solve(self, kappa: Any, alpha: Any, vx: Any, Fz: Any, T: Any,
-              mu_scale: float = 1.0) -> BrushOutputs:
+              mu_scale: float = 1.0, *, gamma: Any = 0.0) -> BrushOutputs:
         """Steady state at slip ``kappa`` [1], slip angle ``alpha`` [rad], forward speed ``vx``
-        [m/s] (> 0), load ``Fz`` [N] and background temperature ``T`` [K] (numpy
-        broadcasting); returns :class:`~tire_brush.slip.BrushOutputs` of the broadcast shape.
+        [m/s] (> 0), load ``Fz`` [N], background temperature ``T`` [K] and inclination
+        ``gamma`` [rad] (numpy broadcasting); returns :class:`~tire_brush.slip.BrushOutputs`
+        of the broadcast shape.
         """
         kappa, alpha, vx = (np.asarray(x, float) for x in (kappa, alpha, vx))
         for name, x in (("kappa", kappa), ("alpha", alpha), ("vx", vx)):
@@ -116,7 +118,7 @@ class SteadyBrush:
             raise InputError("slip angle must lie in (-pi/2, pi/2) rad", field="alpha",
                              value=alpha.tolist())
         Vsx, Vsy, Vr = velocities_from_slip(kappa, alpha, vx)
-        out = self.solve_velocities(Vsx, Vsy, Vr, Fz, T, mu_scale)
+        out = self.solve_velocities(Vsx, Vsy, Vr, Fz, T, mu_scale, gamma=gamma)
         shape = np.shape(out.Fx)
         out.kappa = np.broadcast_to(kappa, shape).copy()
         out.alpha = np.broadcast_to(alpha, shape).copy()
@@ -129,18 +131,27 @@ class SteadyBrush:
         return np.where(Fz_b > 0, out.Fx / np.where(Fz_b > 0, Fz_b, 1.0), 0.0)
 
     def solve_velocities(self, V_sx: Any, V_sy: Any, V_r: Any, Fz: Any, T: Any,
-                         mu_scale: float = 1.0) -> BrushOutputs:
+                         mu_scale: float = 1.0, *, gamma: Any = 0.0) -> BrushOutputs:
         """Steady state for slip velocities ``V_sx``, ``V_sy`` [m/s] of the contact point and
-        rolling speed ``V_r`` [m/s] (any signs), load ``Fz`` [N], temperature ``T`` [K].
+        rolling speed ``V_r`` [m/s] (any signs), load ``Fz`` [N], temperature ``T`` [K] and
+        inclination ``gamma`` [rad] (the base of the tread spins at ``-(1 - eps) (V_r / R_e)
+        sin(gamma)``, :class:`~tire_brush.params.CarcassParams`).
 
         The result's ``kappa`` and ``alpha`` are left at 0 (slips need a reference speed;
-        :meth:`solve` fills them in).
+        :meth:`solve` fills them in). ``Mx = -delta_y Fz`` with the belt's steady lateral
+        deflection ``delta_y = Fy / k_y`` (the tread's stress on the belt is Fy less the
+        lateral momentum the tread carries out of the patch, a few per mille here); ``My``
+        is 0 (no rolling-resistance model in the steady brush).
         """
-        arrs = np.broadcast_arrays(*(np.asarray(x, float) for x in (V_sx, V_sy, V_r, Fz, T)))
-        for name, x in zip(("V_sx", "V_sy", "V_r", "Fz", "T"), arrs, strict=True):
+        arrs = np.broadcast_arrays(*(np.asarray(x, float)
+                                     for x in (V_sx, V_sy, V_r, Fz, T, gamma)))
+        for name, x in zip(("V_sx", "V_sy", "V_r", "Fz", "T", "gamma"), arrs, strict=True):
             _finite(name, x)
+        if (np.abs(arrs[5]) >= np.pi / 2).any():
+            raise InputError("inclination angle must lie in (-pi/2, pi/2) rad", field="gamma",
+                             value=arrs[5].tolist())
         shape = arrs[0].shape
-        Vsx, Vsy, Vr, Fz_, T_ = (x.ravel() for x in arrs)
+        Vsx, Vsy, Vr, Fz_, T_, G_ = (x.ravel() for x in arrs)
         if (T_ <= 0).any():
             raise InputError("temperature must be > 0 K", field="T", value=T_.tolist())
         if not (np.isfinite(mu_scale) and mu_scale >= 0):
@@ -149,21 +160,23 @@ class SteadyBrush:
         for Tu in np.unique(T_):
             sel = np.flatnonzero(T_ == Tu)
             res[:, sel] = self._march(Vsx[sel], Vsy[sel], Vr[sel], Fz_[sel], float(Tu),
-                                      float(mu_scale))
+                                      float(mu_scale), G_[sel])
         Fx, Fy, Mz, mu_eff, mu_slide, frac, dT = (r.reshape(shape) for r in res)
         zero = np.zeros(shape)
+        Mx = zero.copy() if self.rigid_carcass else -(Fy / self.params.carcass.k_y) * arrs[3]
         return BrushOutputs(Fx, Fy, Mz, zero, zero.copy(), mu_eff, mu_slide, frac, dT,
-                            np.broadcast_to(arrs[4], shape).copy())
+                            np.broadcast_to(arrs[4], shape).copy(), Mx, zero.copy())
 
     def _march(self, Vsx: np.ndarray, Vsy: np.ndarray, Vr: np.ndarray, Fz: np.ndarray,
-               T: float, mu_scale: float) -> np.ndarray:
+               T: float, mu_scale: float, gamma: np.ndarray) -> np.ndarray:
         """Follow one element through the patch for every point (module docstring); rows
         ``Fx, Fy, Mz, mu_eff, mu_slide, sliding_fraction, dT_flash_max``."""
-        pts = np.ascontiguousarray(np.stack([Vsx, Vsy, Vr, Fz], axis=1), dtype=float)
+        pts = np.ascontiguousarray(np.stack([Vsx, Vsy, Vr, Fz, gamma], axis=1), dtype=float)
         n = pts.shape[0]
         if self.backend == "reference":
-            out = np.array([steady_point(self._P, self._rtab, self.n_elements, *row, T,
-                                         mu_scale) for row in pts.tolist()]).reshape(n, 8)
+            out = np.array([steady_point(self._P, self._rtab, self.n_elements, *row[:4], T,
+                                         mu_scale, row[4])
+                            for row in pts.tolist()]).reshape(n, 8)
         else:
             out = np.zeros((n, ccore.STEADY_OUT))
             rc = self._lib.tf_steady(ctypes.byref(self._P), self._ctab.handle,

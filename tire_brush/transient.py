@@ -68,7 +68,9 @@ DT_INTERNAL = 2.5e-4
 #: footprint pressure per sub-step; docs/tire-core.md).
 TOL = 1e-2
 #: Inputs of :meth:`TransientBrushTire.step`, in order, and the number types they accept.
-_INPUT_NAMES = ("dt", "vx", "vy", "omega", "Fz", "T_surface", "mu_scale")
+_INPUT_NAMES = ("dt", "vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma")
+#: Slice of the outputs in the state vector (docs/tire-core.md, "state").
+_OUT = slice(11, 11 + ccore.N_OUT)
 _NUMBER_TYPES = (int, float, np.floating, np.integer)
 #: Backends of the stepping.
 BACKENDS = ("c", "reference")
@@ -139,7 +141,7 @@ class TransientBrushTire:
                                  value=params.name)
             self._h = handle
             self.n_lattice = int(self._lib.tf_tire_lattice(handle))
-            self._in = np.zeros(6)
+            self._in = np.zeros(ccore.N_IN)
             self._out = np.zeros(ccore.N_OUT)
             self._pin = ccore._ptr(self._in)
             self._pout = ccore._ptr(self._out)
@@ -152,6 +154,48 @@ class TransientBrushTire:
         self.dx = 2.0 * a_nom / n_elements
         self.a_max, _ = params.patch.size(params.patch.Fz_max)
         self._state_size = STATE_HEAD + N_ELEM * self.n_lattice
+        self.rolling = None
+
+    def set_rolling(self, table: Any | None) -> None:
+        """Give the tire a rolling-resistance table (or ``None`` to remove it).
+
+        Parameters
+        ----------
+        table
+            An object with attributes ``log10_v`` (rolling speed |V_r| [m/s], log10), ``T``
+            (tread temperature [K]), ``log10_Fz`` (load [N], log10), strictly ascending with
+            >= 2 nodes each, and ``f_r``, ``tread_share`` of shape ``(nV, nT, nFz)``: the
+            coefficient ``F_r / Fz`` [1] and the share of the loss dissipated in the tread
+            [1]. The core interpolates trilinearly (clamped; proportional to |V_r| below the
+            first speed node) and outputs ``My = f_r Fz R_e`` against the spin; the tread's
+            share of ``F_r |V_r|`` heats the tread temperature.
+        """
+        if table is None:
+            self.rolling = None
+            if self.backend == "c":
+                self._lib.tf_tire_set_rolling(self._h, None)
+                self._rtab = None
+            else:
+                self._ref.set_rolling(None)
+            return
+        f_r = np.asarray(table.f_r, float)
+        share = np.asarray(table.tread_share, float)
+        axes = [np.asarray(a, float) for a in (table.log10_v, table.T, table.log10_Fz)]
+        shape = tuple(a.size for a in axes)
+        if f_r.shape != shape or share.shape != shape or not (
+                np.isfinite(f_r).all() and (f_r >= 0).all() and np.isfinite(share).all()
+                and ((share >= 0) & (share <= 1)).all()):
+            raise InputError("rolling-resistance table: f_r >= 0 and tread_share in [0, 1], "
+                             f"finite, of shape {shape}", field="rolling",
+                             value={"f_r": f_r.shape, "tread_share": share.shape})
+        values = np.stack([f_r, share, np.zeros_like(f_r)], axis=-1)
+        if self.backend == "c":
+            ct = ccore.CoreTable(axes[0], axes[1], axes[2], values, 0.0)
+            self._lib.tf_tire_set_rolling(self._h, ct.handle)
+            self._rtab = ct                     # the core holds a pointer: keep it alive
+        else:
+            self._ref.set_rolling(RefTable(axes[0], axes[1], axes[2], values, 0.0))
+        self.rolling = table
 
     def __del__(self) -> None:
         h = getattr(self, "_h", None)
@@ -179,14 +223,16 @@ class TransientBrushTire:
 
     def get_state(self) -> dict[str, np.ndarray | float | int]:
         """The full internal state (copies): element states, lattice phase, belt deflection
-        and velocity, last tread force, tread temperature, time, the last outputs and the
-        belt's yaw (angle ``psi``, rate ``wpsi``, tread moment on it ``M``)."""
+        and velocity, last tread force, tread temperature, time, the last outputs, the
+        belt's yaw (angle ``psi``, rate ``wpsi``, tread moment on it ``M``) and the spin of
+        the base from camber in the last step (``wc``)."""
         b = self.state_vector()
+        k = _OUT.stop
         return {"version": STATE_VERSION, "elements": b[STATE_HEAD:].reshape(-1, N_ELEM).copy(),
                 "x_top": float(b[2]), "delta": b[3:5].copy(), "Vb": b[5:7].copy(),
                 "F": b[7:9].copy(), "T_tread": float(b[9]), "time": float(b[10]),
-                "outputs": b[11:21].copy(), "psi": float(b[21]), "wpsi": float(b[22]),
-                "M": float(b[23])}
+                "outputs": b[_OUT].copy(), "psi": float(b[k]), "wpsi": float(b[k + 1]),
+                "M": float(b[k + 2]), "wc": float(b[k + 3])}
 
     def set_state(self, state: dict) -> None:
         """Restore a state from :meth:`get_state` (bit for bit)."""
@@ -195,8 +241,8 @@ class TransientBrushTire:
             S = np.array(state["elements"], dtype=float)
             parts = [np.array(state[k], dtype=float).reshape(-1)
                      for k in ("delta", "Vb", "F", "outputs")]
-            x_top, T_tread, time, psi, wpsi, M = (float(state[k]) for k in (
-                "x_top", "T_tread", "time", "psi", "wpsi", "M"))
+            x_top, T_tread, time, psi, wpsi, M, wc = (float(state[k]) for k in (
+                "x_top", "T_tread", "time", "psi", "wpsi", "M", "wc"))
         except (KeyError, TypeError, ValueError) as exc:
             raise InputError(f"not a state of this model ({exc!r})", field="state") from None
         if version != STATE_VERSION or S.shape != (self.n_lattice, N_ELEM) or \
@@ -205,7 +251,7 @@ class TransientBrushTire:
                              field="state", value={"version": version, "elements": S.shape})
         buf = np.concatenate([[float(STATE_VERSION), float(self.n_lattice), x_top],
                               parts[0], parts[1], parts[2], [T_tread, time], parts[3],
-                              [psi, wpsi, M], S.reshape(-1)])
+                              [psi, wpsi, M, wc], S.reshape(-1)])
         if not np.isfinite(np.delete(buf, 9)).all():
             raise InputError("state holds non-finite numbers", field="state")
         if self.backend == "c":
@@ -222,7 +268,7 @@ class TransientBrushTire:
     @property
     def outputs(self) -> BrushOutputs:
         """Outputs at the end of the last step."""
-        return BrushOutputs.from_array(self.state_vector()[11:21])
+        return BrushOutputs.from_array(self.state_vector()[_OUT])
 
     def element_positions(self) -> np.ndarray:
         """Current positions of the lattice elements along the patch [m]."""
@@ -236,7 +282,7 @@ class TransientBrushTire:
 
     # -- stepping ---------------------------------------------------------------------------
     def step(self, dt: float, vx: float, vy: float, omega: float, Fz: float, T_surface: float,
-             mu_scale: float = 1.0) -> BrushOutputs:
+             mu_scale: float = 1.0, gamma: float = 0.0) -> BrushOutputs:
         """Advance by ``dt`` [s] with inputs held over the step.
 
         Parameters
@@ -255,36 +301,44 @@ class TransientBrushTire:
             Background tread/road temperature [K] (> 0).
         mu_scale
             Road friction scale [1] (>= 0) multiplying both branches.
+        gamma
+            Inclination (camber) angle [rad], ``|gamma| < pi/2`` (docs/axes.md: the same sign
+            in every axis system): the base of the tread spins at ``-(1 - eps) omega
+            sin(gamma)`` (:class:`~tire_brush.params.CarcassParams`).
 
         Returns
         -------
         BrushOutputs
             Forces and diagnostics at the end of the step.
         """
-        return BrushOutputs(*self.step_array(dt, vx, vy, omega, Fz, T_surface, mu_scale))
+        return BrushOutputs(*self.step_array(dt, vx, vy, omega, Fz, T_surface, mu_scale,
+                                             gamma))
 
     def step_array(self, dt: float, vx: float, vy: float, omega: float, Fz: float,
-                   T_surface: float, mu_scale: float = 1.0) -> list[float]:
+                   T_surface: float, mu_scale: float = 1.0,
+                   gamma: float = 0.0) -> list[float]:
         """:meth:`step` returning the outputs as a list in
         :data:`~tire_brush.slip.OUTPUT_UNITS` order (no dataclass: the FMU's fast path)."""
-        vals = (dt, vx, vy, omega, Fz, T_surface, mu_scale)
+        vals = (dt, vx, vy, omega, Fz, T_surface, mu_scale, gamma)
         if not (type(dt) is float and type(vx) is float and type(vy) is float and
                 type(omega) is float and type(Fz) is float and type(T_surface) is float and
-                type(mu_scale) is float and math.isfinite(dt + vx + vy + omega + Fz + T_surface
-                                                          + mu_scale)):
+                type(mu_scale) is float and type(gamma) is float and
+                math.isfinite(dt + vx + vy + omega + Fz + T_surface + mu_scale + gamma)):
             for name, x in zip(_INPUT_NAMES, vals, strict=True):
                 if isinstance(x, bool) or not (isinstance(x, _NUMBER_TYPES) and
                                                math.isfinite(x)):
                     raise InputError("must be a finite number", field=name, value=x)
-        if dt < 0 or T_surface <= 0 or mu_scale < 0:
-            raise InputError("need dt >= 0 s, T_surface > 0 K and mu_scale >= 0",
-                             field="step", value={"dt": dt, "T_surface": T_surface,
-                                                  "mu_scale": mu_scale})
+        if dt < 0 or T_surface <= 0 or mu_scale < 0 or not abs(gamma) < 0.5 * math.pi:
+            raise InputError("need dt >= 0 s, T_surface > 0 K, mu_scale >= 0 and |gamma| < "
+                             "pi/2 rad", field="step",
+                             value={"dt": dt, "T_surface": T_surface, "mu_scale": mu_scale,
+                                    "gamma": gamma})
         if self.backend == "reference":
             return self._ref.step(float(dt), float(vx), float(vy), float(omega), float(Fz),
-                                  float(T_surface), float(mu_scale))
+                                  float(T_surface), float(mu_scale), float(gamma))
         i = self._in
-        i[0], i[1], i[2], i[3], i[4], i[5] = vx, vy, omega, Fz, T_surface, mu_scale
+        i[0], i[1], i[2], i[3], i[4], i[5], i[6] = (vx, vy, omega, Fz, T_surface, mu_scale,
+                                                    gamma)
         if self._step(self._h, float(dt), self._pin, self._pout) != 0:   # pragma: no cover
             raise InputError("the tire core refused the inputs", field="step",
                              value=dict(zip(_INPUT_NAMES, vals, strict=True)))

@@ -17,6 +17,7 @@ NaN or +-inf (any input)               its last finite value (start value at fir
 ``T_surface`` outside                  clamped into ``[limit.T_min, limit.T_max]``    16
 ``[limit.T_min, limit.T_max]``
 ``mu_scale < 0`` or ``> limit.mu_scale``  clamped into ``[0, limit.mu_scale]``         32
+``|gamma| > limit.gamma``              clamped to the limit, sign kept                128
 =====================================  ===========================================  =====
 
 The bits of a step add up to the FMU output ``input_status``. Each condition is reported once
@@ -35,9 +36,9 @@ from typing import Any
 from fmu_src.runtime.interface import STATUS_BITS
 
 #: Input names in the order the guard takes them.
-NAMES = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale")
+NAMES = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma")
 #: Units of the inputs (for messages).
-_UNITS = ("m/s", "m/s", "rad/s", "N", "K", "")
+_UNITS = ("m/s", "m/s", "rad/s", "N", "K", "", "rad")
 
 #: FMI status codes used for messages (fmi2OK, fmi2Warning).
 OK, WARNING = 0, 1
@@ -62,6 +63,10 @@ class InputGuard:
         self.T_min = float(limits["limit.T_min"])
         self.T_max = float(limits["limit.T_max"])
         self.mu_max = float(limits["limit.mu_scale"])
+        self.gamma_max = float(limits["limit.gamma"])
+        if not self.gamma_max < 0.5 * math.pi:
+            raise ValueError(f"input envelope: limit.gamma must be < pi/2 (got "
+                             f"{self.gamma_max})")
         bad = [k for k, v in limits.items() if not (math.isfinite(v) and v > 0)]
         if bad or not self.T_min < self.T_max:
             raise ValueError(f"input envelope: {', '.join(bad) or 'limit.T_min'} must be "
@@ -87,7 +92,7 @@ class InputGuard:
         x = list(u)
         found: dict[str, str] = {}
         last = self.last
-        for i in range(6):
+        for i in range(len(NAMES)):
             if math.isfinite(x[i]):
                 last[i] = x[i]
             else:
@@ -119,6 +124,10 @@ class InputGuard:
             found["mu_scale_clamped"] = (f"input mu_scale = {mu:g} is outside [0, "
                                          f"{self.mu_max:g}]: clamped")
             x[5] = min(max(mu, 0.0), self.mu_max)
+        if abs(x[6]) > self.gamma_max:
+            found["camber_clamped"] = (f"input gamma = {x[6]:g} rad is beyond the envelope "
+                                       f"(limit.gamma = {self.gamma_max:g} rad): clamped")
+            x[6] = math.copysign(self.gamma_max, x[6])
         if not found and not self.active:
             return x, 0, []
         return x, self._status(found), self._messages(found)

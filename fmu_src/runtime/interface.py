@@ -82,6 +82,7 @@ STATUS_BITS: dict[str, int] = {
     "temperature_clamped": 16,  # T_surface outside [limit.T_min, limit.T_max]: clamped
     "mu_scale_clamped": 32,     # mu_scale < 0 or > limit.mu_scale: clamped
     "model_reset": 64,     # the model failed in this step and was reset to rest
+    "camber_clamped": 128,  # |gamma| > limit.gamma: clamped
 }
 
 
@@ -128,6 +129,9 @@ INPUTS: tuple[tuple[str, str, float | None, str], ...] = (
      "Background tread/road temperature [K] (friction tables' T0; the tread temperature "
      "relaxes to it)"),
     ("mu_scale", "1", 1.0, "Road friction scale [1], multiplies both friction branches"),
+    ("gamma", "rad", 0.0, "Inclination (camber) angle of the wheel plane [rad]: a rotation "
+                          "about x, top of the wheel to the right positive, the same sign in "
+                          "every axis system (docs/axes.md)"),
 )
 
 #: Outputs in order (the :class:`tire_brush.slip.BrushOutputs` fields): name, unit,
@@ -148,6 +152,12 @@ OUTPUTS: tuple[tuple[str, str, str], ...] = (
     ("T_tread", "K",
      "Tread (background) temperature the friction is read at [K]; equals T_surface when "
      "tire.thermal.enabled is false"),
+    ("Mx", "N.m", "Overturning moment about the x axis through the contact centre [N.m]: "
+                  "the load shifted sideways by the belt's lateral deflection (the same sign "
+                  "in every axis system)"),
+    ("My", "N.m", "Rolling resistance moment about the wheel axis [N.m], f_r Fz R_e against "
+                  "the spin (axis system of parameter axes: ISO-W My < 0 rolling forward); 0 "
+                  "when the FMU was built without a rolling-resistance table"),
 )
 
 #: Tire parameters (fields of TireParams): dotted field path -> (unit, description), read from
@@ -181,8 +191,9 @@ AXES_OPTION: tuple[str, ...] = ("adapted-sae", "iso-w", "sae")
 
 
 def axis_signs(axes: int) -> dict[str, int]:
-    """Factors taking ``vy``, ``Fy``, ``Mz`` and ``alpha`` from the brush model's own
-    convention (Pacejka's adapted SAE) into the FMU's ``axes`` (and back: each is +-1).
+    """Factors taking ``vy``, ``Fy``, ``Mz``, ``My`` and ``alpha`` from the brush model's own
+    convention (Pacejka's adapted SAE) into the FMU's ``axes`` (and back: each is +-1; ``Mx``
+    and the camber keep their sign in all of them).
 
     Raises
     ------
@@ -192,7 +203,7 @@ def axis_signs(axes: int) -> dict[str, int]:
     if isinstance(axes, bool) or axes not in range(len(AXES_OPTION)):
         raise ValueError(f"axes = {axes!r} must be 0 (adapted SAE), 1 (ISO-W) or 2 (SAE)")
     to, frm = SIGNS[AXES_OPTION[int(axes)]], SIGNS[BRUSH_AXES]
-    return {q: to[q] * frm[q] for q in ("vy", "Fy", "Mz", "alpha")}
+    return {q: to[q] * frm[q] for q in ("vy", "Fy", "Mz", "My", "alpha")}
 
 #: Input envelope (:mod:`fmu_src.runtime.guard`): name -> (unit, description). Start values
 #: come from :func:`default_limits`.
@@ -206,6 +217,8 @@ LIMITS: dict[str, tuple[str, str]] = {
     "limit.T_min": ("K", "Lowest T_surface passed to the model [K] (input_status bit 16)"),
     "limit.T_max": ("K", "Highest T_surface passed to the model [K] (input_status bit 16)"),
     "limit.mu_scale": ("1", "Largest mu_scale passed to the model [1] (input_status bit 32)"),
+    "limit.gamma": ("rad", "Largest |gamma| passed to the model [rad]; larger inputs are "
+                           "clamped (input_status bit 128)"),
 }
 
 #: Constant strings that name what the FMU was built from.
@@ -221,18 +234,20 @@ INITIAL_DEPENDENCIES: dict[str, tuple[str, ...]] = {
     "kappa": ("vx", "omega", "tire.R_e", "v_floor", "limit.v", "limit.omega"),
     "alpha": ("vx", "vy", "v_floor", "limit.v", "axes"),
     "T_tread": ("T_surface", "limit.T_min", "limit.T_max"),
-    "input_status": ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "limit.v",
+    "input_status": ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma", "limit.v",
                      "limit.omega", "limit.Fz", "limit.T_min", "limit.T_max",
-                     "limit.mu_scale"),
+                     "limit.mu_scale", "limit.gamma"),
 }
 
 
 def default_limits(tire: TireParams) -> dict[str, float]:
     """Start values of the input envelope [SI]: 150 m/s, 1000 rad/s (rim speed ~ 300 m/s),
-    five times the patch law's Fz_max, 200..500 K and mu_scale <= 5. They keep the model in a
-    range where every number stays finite; they are not physical limits of a tire."""
+    five times the patch law's Fz_max, 200..500 K, mu_scale <= 5 and |gamma| <= 0.5 rad (29
+    deg; the model refuses pi/2). They keep the model in a range where every number stays
+    finite; they are not physical limits of a tire."""
     return {"limit.v": 150.0, "limit.omega": 1000.0, "limit.Fz": 5.0 * tire.patch.Fz_max,
-            "limit.T_min": 200.0, "limit.T_max": 500.0, "limit.mu_scale": 5.0}
+            "limit.T_min": 200.0, "limit.T_max": 500.0, "limit.mu_scale": 5.0,
+            "limit.gamma": 0.5}
 
 
 # -- tire parameters as flat FMI parameters ---------------------------------------------------

@@ -164,7 +164,7 @@ class BrushTireSlave(Fmi2Slave):
         self._model: TransientBrushTire | None = None
         self._guard: InputGuard | None = None
         self._model_key = ""
-        self._signs = {"vy": 1, "Fy": 1, "Mz": 1, "alpha": 1}
+        self._signs = {"vy": 1, "Fy": 1, "Mz": 1, "My": 1, "alpha": 1}
         for i, v in enumerate(self._vars):
             self.register_variable(self._fmi_variable(v, i, info))
 
@@ -298,7 +298,7 @@ class BrushTireSlave(Fmi2Slave):
             for level, text in messages:
                 self.log(f"initialization: {text}", Fmi2Status(level))
             x = self._to_model(x)
-        vx, vy, omega, _, T_surface, _ = x
+        vx, vy, omega, _, T_surface, *_ = x
         model = self._model
         kappa, alpha = slip_from_kinematics(vx, vy, omega, model.params.R_e, model.v_floor)
         self._out = BrushOutputs(0.0, 0.0, 0.0, kappa, alpha, 0.0, 0.0, 0.0, 0.0, T_surface)

@@ -23,6 +23,8 @@
 /* Smallest rolling speed of the steady march [m/s] (a locked wheel). */
 #define V_ROLL_MIN 1e-6
 #define LN10 2.302585092994046
+/* pi / 2: the inclination angle is refused at or beyond it */
+#define HALF_PI 1.5707963267948966
 
 struct tf_table {
     int n[3];
@@ -47,6 +49,8 @@ struct tf_tire {
     double *el;
     double x_top, delta[2], Vb[2], F[2], T_tread, time;
     double psi, wpsi, M;   /* belt yaw [rad], its rate [rad/s], tread moment on the belt [N m] */
+    double wc;             /* spin of the base from camber in the last step [rad/s] */
+    const tf_table *rr;    /* rolling resistance (tf_tire_set_rolling), or NULL */
     double out[TF_NOUT];
     double work;
 };
@@ -711,6 +715,7 @@ static int params_ok(const tf_params *p) {
         if (!(isfinite(nonneg[i]) && nonneg[i] >= 0.0)) return 0;
     if (!isfinite(p->q_ra2) || !isfinite(p->q_rb2) || !(p->void_ratio < 0.95)) return 0;
     if (!(p->end_zone <= 1.0) || !(vertical_stiffness(p) > 0.0)) return 0;
+    if (!(p->camber_reduction >= 0.0 && p->camber_reduction <= 1.0)) return 0;
     if (p->n_elements < 2) return 0;
     return 1;
 }
@@ -718,19 +723,21 @@ static int params_ok(const tf_params *p) {
 /* ---------------------------------------------------------------- steady --------------- */
 
 /* One steady point with the belt at rest on the rim and yawed by psi = 0 (the march of
- * docs/tire-core.md, "steady model"): the element is followed to the trailing edge; the
+ * docs/tire-core.md, "steady model"), its base spinning at wc (camber, for the march's
+ * direction of travel): the element is followed to the trailing edge; the
  * forces are the impulse of its friction over the transit time times b V_r (the patch
  * integral, no sampling); the diagnostics are read at the n_cells cell midpoints. */
 static double steady_march(const tf_params *p, const tf_table *t, int n_cells, double Vsx,
                            double Vsy, double Vr, double Fz, double a, double b, double T,
-                           double mu_scale, double *o) {
+                           double mu_scale, double wc, double *o) {
     double sgn = Vr < 0.0 ? -1.0 : 1.0;
     double vr = fabs(Vr) > V_ROLL_MIN ? fabs(Vr) : V_ROLL_MIN;
     double cf = flat_half_length(p, Fz, a, b);
     double mean = (cf + (2.0 / 3.0) * (a - cf)) / a;
     tf_ctx c;
     ctx_init(&c, p, t, T, Fz, a, b, cf, Fz / (2.0 * a * b * mean), mu_scale, Vsx, Vsy, vr);
-    double e[TF_ELEM] = {0.0, 0.0, Vsx, Vsy, 0.0, 0.0, 1.0};
+    c.wpsi = wc;
+    double e[TF_ELEM] = {0.0, 0.0, Vsx, Vsy + a * wc, 0.0, 0.0, 1.0};
     double Jx = 0.0, Jy = 0.0, Jm = 0.0, Jt = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
     double steps = 0.0, x_prev = a;
     for (int j = 0; j <= n_cells; j++) {
@@ -778,12 +785,16 @@ int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const d
     for (int i = 0; i < n; i++) {
         const double *q = in + (size_t)i * TF_STEADY_IN;
         double *o = out + (size_t)i * TF_STEADY_OUT;
-        double Vsx = q[0], Vsy = q[1], Vr = q[2], Fz = q[3];
+        double Vsx = q[0], Vsy = q[1], Vr = q[2], Fz = q[3], gam = q[4];
+        if (!(fabs(gam) < HALF_PI)) return -1;
+        /* the march runs forward; for V_r < 0 it is the mirror image, in which the spin of
+         * the base is that of forward rolling */
+        double wc = -(1.0 - p->camber_reduction) * (fabs(Vr) / p->R_e) * sin(gam);
         double a, b;
         patch_size(p, Fz, &a, &b);
         for (int k = 0; k < TF_STEADY_OUT; k++) o[k] = 0.0;
         if (!(a > 0.0 && b > 0.0)) continue;
-        double Mb = steady_march(p, t, n_cells, Vsx, Vsy, Vr, Fz, a, b, T, mu_scale, o);
+        double Mb = steady_march(p, t, n_cells, Vsx, Vsy, Vr, Fz, a, b, T, mu_scale, wc, o);
         if (p->rigid || Mb == 0.0) continue;
         /* belt yaw psi = M_belt / kc_psi, which turns the base's lateral slip speed into
          * Vsy - V_r psi (docs/tire-core.md, "belt"): the root of g(psi) = M_belt(psi) /
@@ -796,7 +807,7 @@ int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const d
         int it = 0;
         for (;;) {
             double Mh = steady_march(p, t, n_cells, Vsx, Vsy - Vr * hi, Vr, Fz, a, b, T,
-                                     mu_scale, oh);
+                                     mu_scale, wc, oh);
             steps += oh[7];
             it++;
             ghi = Mh / p->kc_psi - hi;
@@ -810,7 +821,7 @@ int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const d
             double x = hi - ghi * (hi - lo) / (ghi - glo);
             double ox[TF_STEADY_OUT];
             double Mx = steady_march(p, t, n_cells, Vsx, Vsy - Vr * x, Vr, Fz, a, b, T,
-                                     mu_scale, ox);
+                                     mu_scale, wc, ox);
             steps += ox[7];
             it++;
             double gx = Mx / p->kc_psi - x;
@@ -832,8 +843,8 @@ int tf_steady(const tf_params *p, const tf_table *t, int n_cells, int n, const d
 
 /* ---------------------------------------------------------------- transient ------------ */
 
-#define STATE_HEAD 24   /* version, L, x_top, delta[2], Vb[2], F[2], T_tread, time, out[10],
-                          psi, wpsi, M */
+#define STATE_HEAD 27   /* version, L, x_top, delta[2], Vb[2], F[2], T_tread, time, out[12],
+                          psi, wpsi, M, wc */
 
 tf_tire *tf_tire_new(const tf_params *p, const tf_table *t) {
     if (!p || !t || !params_ok(p) || !(p->Fz_nom <= p->Fz_max)) return NULL;
@@ -865,10 +876,16 @@ void tf_tire_reset(tf_tire *tire, double T_tread) {
     tire->delta[0] = tire->delta[1] = 0.0;
     tire->Vb[0] = tire->Vb[1] = 0.0;
     tire->F[0] = tire->F[1] = 0.0;
-    tire->psi = tire->wpsi = tire->M = 0.0;
+    tire->psi = tire->wpsi = tire->M = tire->wc = 0.0;
     tire->T_tread = T_tread;
     tire->time = 0.0;
     for (int k = 0; k < TF_NOUT; k++) tire->out[k] = 0.0;
+}
+
+int tf_tire_set_rolling(tf_tire *tire, const tf_table *rr) {
+    if (!tire) return -1;
+    tire->rr = rr;
+    return 0;
 }
 
 int tf_tire_lattice(const tf_tire *tire) { return tire->L; }
@@ -890,9 +907,10 @@ void tf_tire_get_state(const tf_tire *tire, double *buf) {
     buf[9] = tire->T_tread;
     buf[10] = tire->time;
     memcpy(buf + 11, tire->out, sizeof(double) * TF_NOUT);
-    buf[21] = tire->psi;
-    buf[22] = tire->wpsi;
-    buf[23] = tire->M;
+    buf[23] = tire->psi;
+    buf[24] = tire->wpsi;
+    buf[25] = tire->M;
+    buf[26] = tire->wc;
     memcpy(buf + STATE_HEAD, tire->el, sizeof(double) * (size_t)tire->L * TF_ELEM);
 }
 
@@ -910,9 +928,10 @@ int tf_tire_set_state(tf_tire *tire, const double *buf) {
     tire->T_tread = buf[9];
     tire->time = buf[10];
     memcpy(tire->out, buf + 11, sizeof(double) * TF_NOUT);
-    tire->psi = buf[21];
-    tire->wpsi = buf[22];
-    tire->M = buf[23];
+    tire->psi = buf[23];
+    tire->wpsi = buf[24];
+    tire->M = buf[25];
+    tire->wc = buf[26];
     memcpy(tire->el, buf + STATE_HEAD, sizeof(double) * (size_t)tire->L * TF_ELEM);
     return 0;
 }
@@ -978,7 +997,8 @@ static void tread_stiffness(const tf_tire *tire, const tf_ctx *c, double h, doub
 
 /* One outer step of length h (docs/tire-core.md, "outer step"). */
 static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r, double Fz,
-                    double a, double b, double T_surface, double mu_scale, double *fin) {
+                    double a, double b, double T_surface, double mu_scale, double wc,
+                    double q_roll, double *fin) {
     const tf_params *p = &tire->p;
     double dx = tire->dx;
     int L = tire->L;
@@ -1042,6 +1062,7 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
         tire->Vb[0] = Vsx;
         tire->Vb[1] = Vsy - V_r * tire->psi;
         tire->wpsi = 0.0;
+        tire->wc = wc;
         tire->F[0] = tire->F[1] = 0.0;
         tire->M = 0.0;
         if (p->thermal)
@@ -1056,7 +1077,9 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     double Vbx = Vsx, Vby = Vsy, wpsi = 0.0;
     if (!p->rigid) {
         /* belt translation and yaw, linearly implicit (docs/tire-core.md, "belt"): the
-         * base of element i moves at Vby + x_i wpsi laterally, Vby = Vsy + uy - V_r psi */
+         * base of element i moves at Vby + x_i (wpsi + wc) laterally, Vby = Vsy + uy -
+         * V_r psi, wc the spin from camber; the tread force is linearised in the change of
+         * the total spin, hence wpsi_n + wc_n - wc below */
         double Jx, Jy, S1, S2;
         tread_stiffness(tire, &c, h, &Jx, &Jy, &S1, &S2);
         Jx *= area;
@@ -1068,8 +1091,9 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
         double D0 = (Vsy - V_r * tire->psi) - tire->Vb[1];
         double a11 = p->kc_y * h + p->dc_y + Jy, a12 = S1 - V_r * h * Jy;
         double a21 = S1, a22 = p->kc_psi * h + p->dc_psi + S2 - V_r * h * S1;
-        double b1 = tire->F[1] - p->kc_y * tire->delta[1] - Jy * D0 + S1 * tire->wpsi;
-        double b2 = tire->M - p->kc_psi * tire->psi - S1 * D0 + S2 * tire->wpsi;
+        double wn = tire->wpsi + (tire->wc - wc);
+        double b1 = tire->F[1] - p->kc_y * tire->delta[1] - Jy * D0 + S1 * wn;
+        double b2 = tire->M - p->kc_psi * tire->psi - S1 * D0 + S2 * wn;
         double det = a11 * a22 - a12 * a21;
         double uy = (b1 * a22 - a12 * b2) / det;
         wpsi = (a11 * b2 - a21 * b1) / det;
@@ -1081,7 +1105,7 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     }
     c.Vbx = Vbx;
     c.Vby = Vby;
-    c.wpsi = wpsi;
+    c.wpsi = wpsi + wc;
     double Jx = 0.0, Jy = 0.0, Jm = 0.0, heat = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
     double n_in = 0.0, Tx = 0.0, Ty = 0.0, Tm = 0.0;
     for (int i = 0; i < L; i++) {
@@ -1112,7 +1136,7 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
             e[0] = 0.0;
             e[1] = 0.0;
             e[2] = Vbx;
-            e[3] = Vby + x_in * wpsi;
+            e[3] = Vby + x_in * c.wpsi;
             e[4] = 0.0;
             e[5] = h_e;
             e[6] = 1.0;
@@ -1121,7 +1145,7 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
         integrate(&c, e, x, h_e, &r);
         tire->work += r.steps;
         Tx += c.kx * e[0] + c.dx * (e[2] - Vbx);
-        double ty = c.ky * e[1] + c.dy * (e[3] - (Vby + x * wpsi));
+        double ty = c.ky * e[1] + c.dy * (e[3] - (Vby + x * c.wpsi));
         Ty += ty;
         Tm += x * ty;
         Jx += r.Jx;
@@ -1140,6 +1164,7 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     tire->Vb[0] = Vbx;
     tire->Vb[1] = Vby;
     tire->wpsi = wpsi;
+    tire->wc = wc;
     tire->F[0] = Tx * area;
     tire->F[1] = Ty * area;
     tire->M = Tm * area;
@@ -1147,8 +1172,11 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     fin[6] = Jy * area;
     fin[7] = Jm * area;
     if (p->thermal) {
+        /* friction heat (its share heat_fraction enters the rubber) and the tread's share
+         * of the rolling loss q_roll [W], generated inside the tread */
         double Q = heat * area;
-        tire->T_tread = (tire->T_tread + (p->heat_fraction * Q + h * p->conductance * T_surface) /
+        tire->T_tread = (tire->T_tread + (p->heat_fraction * Q + h * q_roll +
+                                          h * p->conductance * T_surface) /
                          p->heat_capacity) / (1.0 + h * p->conductance / p->heat_capacity);
     }
     fin[0] = 1.0;
@@ -1157,10 +1185,38 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     fin[4] = dTm;
 }
 
+/* Rolling resistance coefficient and the tread's share of the loss at rolling speed |V_r|,
+ * tread temperature T and load Fz > 0 (tf_tire_set_rolling): trilinear in (log10 |V_r|, T,
+ * log10 Fz), clamped to the table, and proportional to |V_r| below the first speed node. */
+static void rolling(const tf_table *rr, double vr, double T, double Fz, double *f, double *sh) {
+    double v0 = rr->vnode[0];
+    double scale = 1.0;
+    if (vr < v0) { scale = vr / v0; vr = v0; }
+    int iv, iT, ip;
+    double fv, fT, fp;
+    locate(rr, 0, log10(vr), &iv, &fv);
+    locate(rr, 1, T, &iT, &fT);
+    locate(rr, 2, log10(Fz), &ip, &fp);
+    int nT = rr->n[1], np = rr->n[2];
+    double acc[2] = {0.0, 0.0};
+    for (int c = 0; c < 8; c++) {
+        int dv = c >> 2, dT = (c >> 1) & 1, dp = c & 1;
+        double w = (dv ? fv : 1.0 - fv) * (dT ? fT : 1.0 - fT) * (dp ? fp : 1.0 - fp);
+        if (w == 0.0) continue;
+        const double *q = rr->val + ((size_t)((iv + dv) * nT + iT + dT) * np + ip + dp) * 3;
+        acc[0] += w * q[0];
+        acc[1] += w * q[1];
+    }
+    *f = scale * acc[0];
+    *sh = acc[1];
+}
+
 int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
     double vx = in[0], vy = in[1], omega = in[2], Fz = in[3], Ts = in[4], mus = in[5];
+    double gam = in[6];
     if (!(isfinite(dt) && isfinite(vx) && isfinite(vy) && isfinite(omega) && isfinite(Fz) &&
-          isfinite(Ts) && isfinite(mus)) || dt < 0.0 || !(Ts > 0.0) || mus < 0.0)
+          isfinite(Ts) && isfinite(mus) && isfinite(gam)) || dt < 0.0 || !(Ts > 0.0) ||
+        mus < 0.0 || !(fabs(gam) < HALF_PI))
         return -1;
     const tf_params *p = &tire->p;
     if (isnan(tire->T_tread)) tire->T_tread = Ts;
@@ -1174,10 +1230,17 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         double V_r = omega * p->R_e;
         double a, b;
         patch_size(p, Fz, &a, &b);
+        /* camber: the base spins at -(1 - eps) omega sin(gamma) (tirecore.h) */
+        double wc = -(1.0 - p->camber_reduction) * omega * sin(gam);
+        /* rolling resistance at the start of the step, held over it */
+        double f_r = 0.0, share = 0.0;
+        if (tire->rr && Fz > 0.0)
+            rolling(tire->rr, fabs(V_r), p->thermal ? tire->T_tread : Ts, Fz, &f_r, &share);
+        double q_roll = share * f_r * Fz * fabs(V_r);
         double fin[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
         double Ix = 0.0, Iy = 0.0, Im = 0.0;
         for (int k = 0; k < n_sub; k++) {
-            advance(tire, h, vx - V_r, vy, V_r, Fz, a, b, Ts, mus, fin);
+            advance(tire, h, vx - V_r, vy, V_r, Fz, a, b, Ts, mus, wc, q_roll, fin);
             Ix += fin[5];
             Iy += fin[6];
             Im += fin[7];
@@ -1213,6 +1276,10 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         o[3] = kappa;
         o[4] = alpha;
         o[9] = T0;
+        /* overturning moment of the load, shifted sideways by the belt's deflection, about
+         * the contact centre; rolling resistance moment against the spin */
+        o[10] = p->rigid ? 0.0 : -tire->delta[1] * Fz;
+        o[11] = (V_r > 0.0 ? 1.0 : V_r < 0.0 ? -1.0 : 0.0) * (f_r * Fz * p->R_e);
     }
     memcpy(out, tire->out, sizeof(double) * TF_NOUT);
     return 0;

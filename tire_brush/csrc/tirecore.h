@@ -25,22 +25,28 @@ extern "C" {
 #endif
 
 /* Version of this API and of the state layout (tf_tire_get_state). */
-#define TF_VERSION 3
+#define TF_VERSION 4
 /* Shortest step [s] that advances the tire: a shorter one (subnormal included) only advances
  * the clock and leaves state and outputs as they are (nothing in the model moves in 1 ns:
  * the element sub-steps stop at 10 ns), so outputs are continuous as the step -> 0. */
 #define TF_DT_FLOOR 1e-9
+/* Inputs of tf_tire_step, in order: vx, vy [m/s], omega [rad/s], Fz [N], T_surface [K],
+ * mu_scale [1], gamma (inclination angle) [rad]. */
+#define TF_NIN 7
 /* Outputs of tf_tire_step, in order: Fx, Fy [N], Mz [N m], kappa [1], alpha [rad], mu_eff,
- * mu_slide, sliding_fraction [1], dT_flash_max [K], T_tread [K]. Fx, Fy, Mz are the friction
+ * mu_slide, sliding_fraction [1], dT_flash_max [K], T_tread [K], Mx, My [N m] (overturning
+ * moment of the belt's lateral deflection, rolling resistance moment; adapted SAE axes like
+ * the rest: My > 0 opposes rolling forward). Fx, Fy, Mz are the friction
  * impulse of the step over its length when the step is at least dt_internal long; a shorter
  * step dt moves them towards its own mean by dt / dt_internal (a first-order relaxation with
  * time constant dt_internal), so the outputs change by O(dt) as dt -> 0. */
-#define TF_NOUT 10
+#define TF_NOUT 12
 /* Columns of one lattice element in the state: u_x, u_y [m], w_x, w_y [m/s], s [m],
  * last sub-step [s], in contact (0/1). */
 #define TF_ELEM 7
-/* Columns of one steady operating point (tf_steady): V_sx, V_sy, V_r [m/s], Fz [N]. */
-#define TF_STEADY_IN 4
+/* Columns of one steady operating point (tf_steady): V_sx, V_sy, V_r [m/s], Fz [N],
+ * gamma [rad]. */
+#define TF_STEADY_IN 5
 /* Results of one steady point: Fx, Fy, Mz, mu_eff, mu_slide, sliding_fraction,
  * dT_flash_max, sub-steps taken. */
 #define TF_STEADY_OUT 8
@@ -63,6 +69,9 @@ typedef struct {
     double kc_x, kc_y, dc_x, dc_y;
     /* belt yaw (twist) on the rim: stiffness [N m/rad], damping [N m s/rad] */
     double kc_psi, dc_psi;
+    /* camber: share eps of the tilted disk's path curvature sin(gamma) / R_e that the belt
+     * does not follow (Pacejka 2012, ch. 3 and 4: the base spins at -(1 - eps) omega sin gamma) */
+    double camber_reduction;
     /* lumped tread temperature */
     int thermal;
     double heat_capacity, conductance, heat_fraction;
@@ -85,11 +94,16 @@ TF_API tf_tire *tf_tire_new(const tf_params *p, const tf_table *t);
 TF_API void tf_tire_free(tf_tire *tire);
 /* Undeflected tire at rest; tread temperature T_tread [K] (NaN: the next step's T_surface). */
 TF_API void tf_tire_reset(tf_tire *tire, double T_tread);
-/* Advance by dt [s] with inputs held: in = {vx, vy, omega, Fz, T_surface, mu_scale}
- * (dt < TF_DT_FLOOR: only the clock advances).
+/* Advance by dt [s] with the TF_NIN inputs held (dt < TF_DT_FLOOR: only the clock advances).
  * Writes TF_NOUT outputs. Returns 0, or -1 for inputs it refuses (non-finite, dt < 0,
- * T_surface <= 0, mu_scale < 0), leaving the state unchanged. */
+ * T_surface <= 0, mu_scale < 0, |gamma| >= pi/2), leaving the state unchanged. */
 TF_API int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out);
+/* Rolling resistance (optional; NULL removes it): a table on (log10 |V_r| [m/s], T_tread [K],
+ * log10 Fz [N]) whose node values are (f_r, tread_share, unused): the coefficient F_r / Fz
+ * and the share of the loss dissipated in the tread (heat into T_tread). My = f_r Fz R_e,
+ * falling linearly to 0 below the first speed node (a viscoelastic solid's loss modulus is
+ * linear in frequency at low frequency). The table must outlive the tire. Returns 0 or -1. */
+TF_API int tf_tire_set_rolling(tf_tire *tire, const tf_table *rr);
 /* Lattice size, doubles in the state, and the state itself (copy out / in). */
 TF_API int tf_tire_lattice(const tf_tire *tire);
 TF_API int tf_tire_state_size(const tf_tire *tire);

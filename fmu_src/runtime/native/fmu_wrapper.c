@@ -33,22 +33,27 @@
 #include "tirecore.h"
 #include "tfn_config.h"
 
-#define TFN_NIN 6
-#define TFN_NGUARD 13      /* guard conditions: nonfinite x6, speed x3, neg. load, load, T, mu */
+#define TFN_NIN 7
+/* guard conditions: nonfinite x6, speed x3, neg. load, load, T, mu, nonfinite gamma, camber */
+#define TFN_NGUARD 15
 #define TFN_MAX_SUBSTEPS 100000.0
 #define TFN_TABLE_MAGIC "TIREFRIC-TABLE\0\0" /* 16 bytes */
 #define TFN_STATE_MAGIC "TFNSTATE"           /* 8 bytes */
-#define TFN_STATE_VERSION 1u
+#define TFN_STATE_VERSION 2u
 
 enum { PH_INSTANTIATED, PH_INIT, PH_STEP, PH_TERMINATED, PH_ERROR };
 
-static const int GUARD_BIT[TFN_NGUARD] = {1, 1, 1, 1, 1, 1, 4, 4, 4, 2, 8, 16, 32};
+static const int GUARD_BIT[TFN_NGUARD] = {1, 1, 1, 1, 1, 1, 4, 4, 4, 2, 8, 16, 32, 1, 128};
+/* the input each condition concerns, and the condition "not finite" of each input */
+static const int GUARD_INPUT[TFN_NGUARD] = {0, 1, 2, 3, 4, 5, 0, 1, 2, 3, 3, 4, 5, 6, 6};
+static const int NONFINITE[TFN_NIN] = {0, 1, 2, 3, 4, 5, 13};
 static const char *const IN_NAME[TFN_NIN] = {"vx", "vy", "omega", "Fz", "T_surface",
-                                             "mu_scale"};
+                                             "mu_scale", "gamma"};
 static const char *const GUARD_NAME[TFN_NGUARD] = {
     "nonfinite:vx", "nonfinite:vy", "nonfinite:omega", "nonfinite:Fz", "nonfinite:T_surface",
     "nonfinite:mu_scale", "speed_clamped:vx", "speed_clamped:vy", "speed_clamped:omega",
-    "negative_load", "load_clamped", "temperature_clamped", "mu_scale_clamped"};
+    "negative_load", "load_clamped", "temperature_clamped", "mu_scale_clamped",
+    "nonfinite:gamma", "camber_clamped"};
 
 typedef struct {
     double v[TFN_NV];          /* values of every non-string variable, by value reference */
@@ -307,7 +312,7 @@ static int guard_apply(comp *c, const double *u, double *x, const char *when) {
     const double *v = c->v;
     double vmax = v[TFN_VR_LIMIT_V], wmax = v[TFN_VR_LIMIT_OMEGA], Fzmax = v[TFN_VR_LIMIT_FZ];
     double Tmin = v[TFN_VR_LIMIT_T_MIN], Tmax = v[TFN_VR_LIMIT_T_MAX];
-    double mumax = v[TFN_VR_LIMIT_MU_SCALE];
+    double mumax = v[TFN_VR_LIMIT_MU_SCALE], gmax = v[TFN_VR_LIMIT_GAMMA];
     double raw[TFN_NIN];
     for (int i = 0; i < TFN_NIN; i++) {
         raw[i] = u[i];
@@ -315,7 +320,7 @@ static int guard_apply(comp *c, const double *u, double *x, const char *when) {
             c->last[i] = u[i];
             x[i] = u[i];
         } else {
-            found[i] = 1;
+            found[NONFINITE[i]] = 1;
             x[i] = c->last[i];
         }
     }
@@ -342,6 +347,10 @@ static int guard_apply(comp *c, const double *u, double *x, const char *when) {
         found[12] = 1;
         x[5] = fmin(fmax(mu, 0.0), mumax);
     }
+    if (fabs(x[6]) > gmax) {
+        found[14] = 1;
+        x[6] = copysign(gmax, x[6]);
+    }
     int bits = 0;
     for (int k = 0; k < TFN_NGUARD; k++) {
         any |= found[k];
@@ -354,11 +363,11 @@ static int guard_apply(comp *c, const double *u, double *x, const char *when) {
             c->active[k]++;
         } else if (found[k]) {
             c->active[k] = 1;
-            int i = k < 6 ? k : k < 9 ? k - 6 : k == 11 ? 4 : k == 12 ? 5 : 3;
+            int i = GUARD_INPUT[k], nonfinite = k < 6 || k == 13;
             logf_(c, fmi2Warning, "%s: input %s = %g is %s: %s (input_status bit %d; logged "
                   "once until it clears)", when, IN_NAME[i], raw[i],
-                  k < 6 ? "not finite" : k == 9 ? "negative" : "outside the envelope",
-                  k < 6 ? "holding its last finite value" : k == 9 ? "taken as lift-off "
+                  nonfinite ? "not finite" : k == 9 ? "negative" : "outside the envelope",
+                  nonfinite ? "holding its last finite value" : k == 9 ? "taken as lift-off "
                   "(Fz = 0, no forces)" : "clamped", GUARD_BIT[k]);
         } else if (c->active[k]) {
             logf_(c, fmi2OK, "%s: input condition '%s' cleared after %d step(s)", when,
@@ -374,12 +383,13 @@ static void guard_reset(comp *c) {
     memset(c->active, 0, sizeof c->active);
 }
 
-/* Factor taking vy, Fy, Mz and alpha between the brush's axes (Pacejka's adapted SAE) and
+/* Factor taking vy, Fy, Mz, My and alpha between the brush's axes (Pacejka's adapted SAE) and
  * those of parameter axes (fmu_src/runtime/interface.py, axis_signs): 0 adapted SAE (all +1),
- * 1 ISO-W (vy, Fy, Mz flip; alpha keeps its sign), 2 SAE (alpha flips). */
+ * 1 ISO-W (vy, Fy, Mz, My flip; alpha keeps its sign), 2 SAE (alpha flips); Mx and gamma keep
+ * their sign in all three. */
 static double axis_sign(const comp *c, int quantity) {
     int axes = (int)c->v[TFN_VR_AXES];
-    if (axes == 1) return quantity == 3 ? 1.0 : -1.0;   /* 0 vy, 1 Fy, 2 Mz, 3 alpha */
+    if (axes == 1) return quantity == 3 ? 1.0 : -1.0;   /* 0 vy, 1 Fy, 2 Mz, 3 alpha, 4 My */
     if (axes == 2) return quantity == 3 ? -1.0 : 1.0;
     return 1.0;
 }
@@ -389,6 +399,7 @@ static void outputs_to_axes(const comp *c, double *o) {
     o[1] *= axis_sign(c, 1);
     o[2] *= axis_sign(c, 2);
     o[4] *= axis_sign(c, 3);
+    o[11] *= axis_sign(c, 4);
 }
 
 /* Outputs of the undeflected tire at guarded inputs x in the brush's axes
@@ -689,9 +700,9 @@ fmi2Status fmi2DoStep(fmi2Component comp_, fmi2Real t, fmi2Real h, fmi2Boolean n
     initial_outputs(c, x);
     c->v[TFN_VR_STATUS] = st | 64;
     logf_(c, fmi2Discard, "doStep at t = %.6g s: the tire model failed with inputs vx = %g, "
-          "vy = %g, omega = %g, Fz = %g, T_surface = %g, mu_scale = %g; it was reset to an "
-          "undeflected tire at rest (input_status bit 64)", t, x[0], x[1], x[2], x[3], x[4],
-          x[5]);
+          "vy = %g, omega = %g, Fz = %g, T_surface = %g, mu_scale = %g, gamma = %g; it was "
+          "reset to an undeflected tire at rest (input_status bit 64)", t, x[0], x[1], x[2],
+          x[3], x[4], x[5], x[6]);
     return fmi2Discard;
 }
 

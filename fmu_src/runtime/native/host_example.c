@@ -75,10 +75,11 @@ int main(int argc, char **argv) {
             fmi2ExitInitializationMode(c[i]) != fmi2OK)
             return 4;
     }
-    const fmi2ValueReference vin[6] = {0, 1, 2, 3, 4, 5};
-    const fmi2ValueReference vout[10] = {6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+    /* value references of modelDescription.xml: inputs 0-6, the 12 Real outputs 7-18 */
+    const fmi2ValueReference vin[7] = {0, 1, 2, 3, 4, 5, 6};
+    const fmi2ValueReference vout[12] = {7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18};
     double *dt_step = malloc(sizeof(double) * (size_t)steps);
-    double t = 0.0, h = argc > 6 ? atof(argv[6]) : 1e-3, u[6], y[10], total = 0.0;
+    double t = 0.0, h = argc > 6 ? atof(argv[6]) : 1e-3, u[7], y[12], total = 0.0;
     for (int k = 0; k < steps; k++) {
         /* 20 m/s, slip angle ~1 deg, braking slip -5 % after 20 ms, 4 kN, 20 C */
         u[0] = 20.0;
@@ -87,22 +88,23 @@ int main(int argc, char **argv) {
         u[3] = 4000.0;
         u[4] = 293.15;
         u[5] = 1.0;
+        u[6] = 0.0;
         double t0 = now();
         for (int i = 0; i < n; i++) {
-            if (fmi2SetReal(c[i], vin, 6, u) != fmi2OK ||
+            if (fmi2SetReal(c[i], vin, 7, u) != fmi2OK ||
                 fmi2DoStep(c[i], t, h, fmi2True) > fmi2Warning ||
-                fmi2GetReal(c[i], vout, 10, y) != fmi2OK)
+                fmi2GetReal(c[i], vout, 12, y) != fmi2OK)
                 return 5;
             if (i == 0)
-                for (int j = 0; j < 10; j++)
+                for (int j = 0; j < 12; j++)
                     if (!isfinite(y[j])) return 6;
         }
         dt_step[k] = (now() - t0) / n;
         total += dt_step[k] * n;
         t += h;
     }
-    double y0[10];
-    fmi2GetReal(c[0], vout, 10, y0);
+    double y0[12];
+    fmi2GetReal(c[0], vout, 12, y0);
     printf("%.17g %.17g %.17g\n", y0[0], y0[1], y0[2]);
     qsort(dt_step, (size_t)steps, sizeof(double), cmp);
     printf("median_us %.4f mean_us %.4f rtf %.3f\n", 1e6 * dt_step[steps / 2],
