@@ -28,28 +28,35 @@ passenger tire's tread layer contributes roughly half of the losses, Walter & Co
 Technol.* 2, 235 (1974); Schuring, *Rubber Chem. Technol.* 53, 600 (1980)). The deflection-
 energy argument: each material element of the structure is strained by the passage through the
 footprint, a pulse repeated once per revolution (angular frequency :math:`\Omega = V/R_e`).
-For a linear material with loss modulus :math:`E'' = \eta(\omega) E'`, the energy lost per
-cycle by a periodic strain :math:`\varepsilon(t) = \sum_n \hat\varepsilon_n e^{in\Omega t}`
-is :math:`\oint\sigma\,d\varepsilon = 2\pi\sum_{n\ge1}\eta(n\Omega)\,E'|\hat\varepsilon_n|^2`,
-i.e. :math:`4\pi\eta` times the time-averaged energy stored in the oscillating part. Summed
-over all elements (every phase of the pulse is present at any instant) the stored energy is
-the tire's deflection energy :math:`U = \chi F_z^2/(2 C_z')` (:math:`C_z'` the vertical
-stiffness at the inflation pressure, :math:`\chi` the share of it stored in lossy material),
-split over the harmonics as the pulse shape g is, so that
+For a linear material with loss modulus :math:`E'' = \eta(\omega) E'`, a strain
+:math:`c\cos\omega t` loses :math:`\pi E'' c^2` per cycle; a periodic strain
+:math:`\varepsilon(t) = \sum_n \hat\varepsilon_n e^{in\Omega t}` goes through n cycles of
+its n-th harmonic per revolution and so loses
+:math:`4\pi\sum_{n\ge1} n\,\eta(n\Omega)\,E'|\hat\varepsilon_n|^2` per revolution, where
+:math:`E'|\hat\varepsilon_n|^2` is the time-averaged energy stored in harmonic n. Summed over
+all elements (every phase of the pulse is present at any instant) the stored energy is the
+tire's deflection energy :math:`U = \chi F_z^2/(2 C_z')` (:math:`C_z'` the vertical stiffness
+at the inflation pressure, :math:`\chi` the share of it stored in the lossy structure rather
+than in the inflation gas), split over the harmonics as the pulse shape g is, so that
 
-.. math:: E_{\rm rev} = 4\pi U \sum_{n\ge1} w_n\,\eta(n\Omega),\qquad
+.. math:: E_{\rm rev} = 4\pi U \sum_{n\ge1} n\,w_n\,\eta(n\Omega),\qquad
           w_n = \frac{2|\hat g_n|^2}{\langle g^2\rangle},\qquad
           f_{\rm carcass} = \frac{E_{\rm rev}}{2\pi R_e F_z}
-          = \chi\,\frac{F_z}{C_z' R_e}\sum_{n\ge1} w_n\,\eta(n\Omega) .
+          = \chi\,\frac{F_z}{C_z' R_e}\sum_{n\ge1} n\,w_n\,\eta(n\Omega) .
 
 The pulse is that of a radial-spring (Winkler) ring flattened over the patch length 2a of the
 patch law, :math:`g = 1 - x^2/a^2` for :math:`|x| < a` (travel coordinate x, period
-:math:`2\pi R_e`). With a constant :math:`\eta` the sum is
-:math:`\eta(1 - 5a/(6\pi R_e))` (the mean :math:`\hat g_0` carries no loss), and for the ring's
-own energy :math:`U = (2/5) F_z\rho` this is the closed form
-:math:`f = \eta\,(4/5)(\rho/R)(1 - 5a/(6\pi R))` checked in the tests. The same "loss = hysteresis
-times strain energy" bookkeeping is what finite-element rolling-resistance and tire-temperature
-models apply element by element (Lin & Hwang, *Math. Comput. Simul.* 67, 235 (2004)).
+:math:`2\pi R_e`). Each element thus goes through one load-unload cycle per revolution, and
+the loss per revolution is of the order of :math:`\pi\eta` times the sum of the elements'
+peak energies, :math:`U` times :math:`\sim\pi R_e/a` (:math:`\sum n w_n` grows as R/a).
+Two cases integrate by hand (tests): :math:`\sum_n w_n = 1 - 5a/(6\pi R_e)` (the mean
+:math:`\hat g_0` carries no loss), and for a Kelvin-Voigt material, :math:`\eta = \omega\tau`,
+Parseval gives :math:`\sum n^2 w_n = R_e^2\langle (dg/dx)^2\rangle/\langle g^2\rangle
+= 5R_e^2/(2a^2)`, i.e. :math:`f = (5/2)\chi\tau\rho V/a^2`
+(:math:`\rho = F_z/C_z'`), the time-domain loss :math:`\int E\tau\dot\varepsilon^2 dt`.
+The same "loss = hysteresis times strain energy" bookkeeping is what finite-element
+rolling-resistance and tire-temperature models apply element by element (Lin & Hwang, *Math.
+Comput. Simul.* 67, 235 (2004)).
 
 The carcass loss tangent follows the rubbery-side power law
 :math:`\eta(\omega, T) = \eta_{\rm ref}\,(\omega a_c(T)/(\omega_{\rm ref} a_c(T_{\rm ref})))^m`,
@@ -356,25 +363,23 @@ def harmonic_weights(a: float, R: float, n_rev: int = _N_REV) -> np.ndarray:
 
 
 def carcass_coefficient(params: TireParams, rr: RollingResistanceParams, Fz: float,
-                        V: np.ndarray, T: np.ndarray) -> np.ndarray:
-    r"""Carcass part of f_r at one load: :math:`\chi F_z/(C_z' R_e)\sum_n w_n\eta(nV/R_e, T)`.
+                        V: np.ndarray, T: np.ndarray, n_rev: int = _N_REV) -> np.ndarray:
+    r"""Carcass part of f_r at one load: :math:`\chi F_z/(C_z' R_e)\sum_n n w_n
+    \eta(nV/R_e, T)`.
 
-    ``V`` [m/s] > 0 and ``T`` [K] broadcast together.
+    ``V`` [m/s] > 0 and ``T`` [K] broadcast together; ``n_rev`` samples of a revolution
+    (harmonics up to n_rev/2).
     """
     a, _ = params.patch.size(Fz)
-    w = harmonic_weights(a, params.R_e)
+    w = harmonic_weights(a, params.R_e, n_rev)
     n = np.arange(1, w.size + 1, dtype=float)
-    # harmonics beyond the cap where w is negligible are dropped (w_n ~ n^-4 for the parabola)
-    keep = np.cumsum(w) < (1.0 - 1e-9) * w.sum()
-    keep[: max(int(np.count_nonzero(keep)) + 1, 1)] = True
-    w, n = w[keep], n[keep]
     V = np.asarray(V, float)
     T = np.asarray(T, float)
     Vb, Tb = np.broadcast_arrays(V, T)
     omega = Vb[..., None] / params.R_e * n
     eta = rr.carcass_loss(omega, Tb[..., None])
     base = rr.deflection_energy_share * Fz / (params.patch.vertical_stiffness * params.R_e)
-    return base * np.sum(w * eta, axis=-1)
+    return base * np.sum(n * w * eta, axis=-1)
 
 
 # -- the public functions ------------------------------------------------------------------------
