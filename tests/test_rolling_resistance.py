@@ -246,3 +246,31 @@ def test_file_table_is_read_and_checked(tmp_path):
     none.write_text(text.split("[rolling_resistance]")[0])
     with pytest.raises(InputError, match="rolling_resistance"):
         rrm.load_rolling_params(load_tire(none))
+
+
+def test_cli_json_and_text(capsys, tire, compound):
+    import argparse
+    import json
+
+    from tire_brush.rolling_resistance_cli import add_parser
+
+    p = argparse.ArgumentParser()
+    add_parser(p.add_subparsers(dest="cmd"))
+    tire_file = str(MODELS / "tires" / "passenger.toml")
+    comp_file = str(MODELS / "compounds" / "summer.toml")
+    args = p.parse_args(["rolling-resistance", "--tire", tire_file, "--compound", comp_file,
+                         "--speeds-kmh", "80", "--loads", "0.8", "--T", "25", "--json"])
+    assert args.func(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    iso = rrm.iso28580(tire, compound)
+    assert out["iso"]["rrc_N_per_kN"] == pytest.approx(iso.rrc_N_per_kN)
+    assert out["iso"]["label_class"] == iso.label_class
+    (pt,) = out["points"]
+    one = rrm.rolling_resistance(tire, compound, 80 / 3.6, 0.8 * 6031.0, 298.15)
+    assert pt["rrc_N_per_kN"] == pytest.approx(1000 * float(one.f_r))
+    assert pt["My_Nm"] < 0
+    args = p.parse_args(["rolling-resistance", "--tire", tire_file, "--compound", comp_file,
+                         "--speeds-kmh", "50,80", "--loads", "1", "--T", "25"])
+    assert args.func(args) == 0
+    text = capsys.readouterr().out
+    assert "EU label class" in text and "rrc_N_per_kN" in text
