@@ -429,7 +429,8 @@ def load_tire(name_or_path: str | Path) -> TireParams:
     (g, patch), (r, tread), (c, carcass), (h, thermal) = groups.values()
     for tab in (g, r, c, h):
         tab.check_unknown()
-    t.check_unknown()
+    # [rolling_resistance] is read by tire_brush.rolling_resistance (its own parameters)
+    t.check_unknown(extra_allowed=("rolling_resistance",))
     try:
         return TireParams(name=name, R_e=R_e, Fz_nom=Fz_nom, patch=patch, tread=tread,
                           carcass=carcass, thermal=thermal, description=description,

@@ -1,0 +1,276 @@
+"""Rolling resistance of the brush tire (tire_brush.rolling_resistance): fast checks.
+
+Signs, limits, monotonicity in the rubber's loss and in temperature, the EU label classes,
+the core table against the function, and the energy argument of the carcass term against
+cases integrated by hand (docs/rolling.md).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from lookup.compound import load_compound
+from lookup.errors import InputError, InputErrors
+from lookup.rolling import tread_rolling_resistance
+from tire_brush import rolling_resistance as rrm
+from tire_brush.params import load_tire
+
+MODELS = Path(__file__).resolve().parents[1] / "models"
+
+
+@pytest.fixture(scope="module")
+def tire():
+    return load_tire(MODELS / "tires" / "passenger.toml")
+
+
+@pytest.fixture(scope="module")
+def compound():
+    return load_compound(MODELS / "compounds" / "summer.toml")
+
+
+@pytest.fixture(scope="module")
+def rr(tire):
+    return rrm.load_rolling_params(tire)
+
+
+class _ScaledLoss:
+    """Softening law whose loss factor eta_I is multiplied by ``k`` (E'' scaled by k)."""
+
+    def __init__(self, base, k):
+        self.base, self.k = base, k
+
+    def factors(self, eps):
+        eR, eI = self.base.factors(eps)
+        return eR, self.k * eI
+
+
+def test_positive_with_parts_and_signs(tire, compound):
+    V = np.array([-20.0, 1.0, 10.0, 30.0])
+    res = rrm.rolling_resistance(tire, compound, V[:, None], np.array([1000.0, 4000.0, 8000.0]),
+                                 300.0)
+    assert res.f_r.shape == (4, 3)
+    assert (res.f_r > 0).all() and (res.f_tread > 0).all() and (res.f_carcass > 0).all()
+    np.testing.assert_allclose(res.f_r, res.f_tread + res.f_carcass, rtol=1e-14)
+    np.testing.assert_allclose(res.F_r, res.f_r * np.array([1000.0, 4000.0, 8000.0]))
+    # ISO-W: the road's moment opposes the rolling
+    assert (res.My[0] > 0).all() and (res.My[1:] < 0).all()
+    np.testing.assert_allclose(np.abs(res.My), res.F_r * tire.R_e)
+    np.testing.assert_allclose(res.heat_rate, res.F_r * np.abs(V)[:, None])
+    assert ((res.tread_share > 0) & (res.tread_share < 1)).all()
+
+
+def test_zero_load_and_creep_limit(tire, compound):
+    res = rrm.rolling_resistance(tire, compound, [0.0, 10.0], [4000.0, 0.0], 300.0)
+    assert res.My[1] == 0.0 and res.F_r[1] == 0.0 and res.f_r[1] == 0.0
+    assert res.heat_rate[1] == 0.0
+    # V -> 0: finite, held at its value at V_CREEP; no moment at standstill
+    slow = rrm.rolling_resistance(tire, compound, [0.0, 1e-6, rrm.V_CREEP], 4000.0, 300.0)
+    assert np.isfinite(slow.f_r).all() and (slow.f_r > 0).all()
+    np.testing.assert_allclose(slow.f_r, slow.f_r[-1], rtol=1e-12)
+    assert slow.My[0] == 0.0
+
+
+def test_tread_term_is_eq29_of_lookup(tire, compound, rr):
+    """The vectorised tread part equals lookup.rolling.tread_rolling_resistance (eq. 29)."""
+    Fz, V, T = 4000.0, 15.0, 310.0
+    x, p, _ = rrm.footprint_profile(tire, Fz)
+    assert math.isclose(np.trapezoid(p, x) * tire.patch.size(Fz)[1], Fz, rel_tol=2e-3)
+    land = 1.0 - tire.tread.void_ratio
+    ref = tread_rolling_resistance(x, p / land, rr.tread_depth, V, compound, T,
+                                   support="winkler")
+    got = rrm.rolling_resistance(tire, compound, V, Fz, T).f_tread
+    assert math.isclose(float(got), ref, rel_tol=1e-9)
+
+
+def test_rises_with_the_loss(tire, compound, rr):
+    V, Fz, T = 22.0, 4000.0, 300.0
+    base = rrm.rolling_resistance(tire, compound, V, Fz, T)
+    lossy = replace(compound, softening=_ScaledLoss(compound.softening, 2.0))
+    more = rrm.rolling_resistance(tire, lossy, V, Fz, T)
+    assert more.f_tread > 1.5 * base.f_tread  # Im(1/E) ~ E''/E'^2 on the rubbery side
+    assert more.f_r > base.f_r
+    # the carcass part is linear in its loss tangent (below the cap at 1)
+    rr2 = replace(rr, carcass_loss_tangent=2.0 * rr.carcass_loss_tangent)
+    c2 = rrm.rolling_resistance(tire, compound, V, Fz, T, rr=rr2)
+    assert math.isclose(float(c2.f_carcass), 2.0 * float(base.f_carcass), rel_tol=1e-12)
+    # more load tangent in the tread: a larger share of the heat in the tread
+    assert more.tread_share > base.tread_share
+
+
+def test_falls_with_temperature_on_the_rubbery_side(tire, compound):
+    T = np.linspace(300.0, 390.0, 10)
+    res = rrm.rolling_resistance(tire, compound, 22.0, 4000.0, T)
+    assert (np.diff(res.f_tread) < 0).all()
+    assert (np.diff(res.f_carcass) < 0).all()
+    assert (np.diff(res.f_r) < 0).all()
+
+
+def test_eu_label_class_boundaries():
+    cases = {0.0: "A", 6.5: "A", 6.54: "A", 6.55: "B", 6.6: "B", 7.7: "B", 7.74: "B",
+             7.8: "C", 9.0: "C", 9.1: "D", 10.5: "D", 10.55: "E", 10.6: "E", 15.0: "E"}
+    for rrc, cls in cases.items():
+        assert rrm.eu_label_class(rrc) == cls, rrc
+    for bad in (-0.1, float("nan"), "x"):
+        with pytest.raises(InputError):
+            rrm.eu_label_class(bad)
+
+
+def test_iso28580_consistent(tire, compound, rr):
+    iso = rrm.iso28580(tire, compound)
+    assert iso.load_N == pytest.approx(0.8 * rr.load_index_load)
+    assert iso.inflation_Pa == rr.iso_inflation == 210e3
+    assert iso.speed_m_s == pytest.approx(80 / 3.6)
+    assert iso.label_class == rrm.eu_label_class(iso.rrc_N_per_kN)
+    t210 = replace(tire, patch=replace(tire.patch, p_inflation=210e3))
+    direct = rrm.rolling_resistance(t210, compound, 80 / 3.6, 0.8 * rr.load_index_load,
+                                    [298.15, 293.15, 303.15])
+    assert iso.rrc_N_per_kN == pytest.approx(1000 * direct.f_r[0], rel=1e-12)
+    assert iso.per_K == pytest.approx((direct.f_r[2] - direct.f_r[1]) / (10 * direct.f_r[0]))
+    assert iso.per_K < 0
+    other = rrm.iso28580(tire, compound, load_index_load=5000.0)
+    assert other.load_N == 4000.0
+
+
+def test_core_table_contract(tire, compound):
+    lv = np.array([-1.0, 0.5, 1.8])
+    tk = np.array([250.0, 300.0, 380.0, 400.0])
+    lf = np.array([np.log10(200.0), 3.6, np.log10(12000.0)])
+    f, s = rrm.core_table(tire, compound, lv, tk, lf)
+    assert f.shape == s.shape == (3, 4, 3)
+    assert np.isfinite(f).all() and (f > 0).all() and ((s >= 0) & (s <= 1)).all()
+    for i, j, k in ((0, 0, 0), (1, 2, 1), (2, 3, 2), (2, 1, 0)):
+        one = rrm.rolling_resistance(tire, compound, 10 ** lv[i], 10 ** lf[k], tk[j])
+        assert f[i, j, k] == pytest.approx(float(one.f_r), rel=1e-12)
+        assert s[i, j, k] == pytest.approx(float(one.tread_share), rel=1e-12)
+    # default nodes cover 0.1-70 m/s, 230-400 K, 200-12000 N
+    assert 10 ** rrm.CORE_LOG10_V[0] == pytest.approx(0.1)
+    assert 10 ** rrm.CORE_LOG10_V[-1] == pytest.approx(70.0)
+    assert (rrm.CORE_T_K[0], rrm.CORE_T_K[-1]) == (230.0, 400.0)
+    assert 10 ** rrm.CORE_LOG10_FZ[0] == pytest.approx(200.0)
+    assert 10 ** rrm.CORE_LOG10_FZ[-1] == pytest.approx(12000.0)
+    for arr in (rrm.CORE_LOG10_V, rrm.CORE_T_K, rrm.CORE_LOG10_FZ):
+        assert (np.diff(arr) > 0).all()
+    with pytest.raises(InputError):
+        rrm.core_table(tire, compound, lv, np.array([300.0, np.nan]), lf)
+
+
+def test_harmonic_weights_closed_forms():
+    """The pulse g = 1 - x^2/a^2 of a revolution of length L = 2 pi R, integrated by hand.
+
+    Constant loss tangent: sum_n w_n = 1 - g0^2/<g^2> with g0 = (4a/3)/L,
+    <g^2> = (16a/15)/L, i.e. 1 - 5a/(6 pi R).
+    Kelvin-Voigt material (eta = omega tau, sigma = E(eps + tau d eps/dt)): the loss per
+    revolution of an element, E tau eps0^2 V int g'^2 dx = E tau eps0^2 V 8/(3a) in the time
+    domain, equals the harmonic sum 4 pi (E eps0^2 <g^2>/2) sum_n n w_n eta(n Omega),
+    Omega = 2 pi V / L (harmonic n goes through n cycles per revolution).
+    """
+    for a, R in ((0.07, 0.31), (0.12, 0.3), (0.03, 0.5)):
+        w = rrm.harmonic_weights(a, R, n_rev=16384)
+        assert w.sum() == pytest.approx(1.0 - 5.0 * a / (6.0 * math.pi * R), rel=1e-6)
+        L, V, tau = 2 * math.pi * R, 20.0, 1e-3
+        Omega = 2 * math.pi * V / L
+        mean_g2 = 16 * a / 15 / L
+        n = np.arange(1, w.size + 1)
+        harmonic = 4 * math.pi * 0.5 * mean_g2 * np.sum(n * w * (n * Omega * tau))
+        assert harmonic == pytest.approx(tau * V * 8 / (3 * a), rel=2e-3)
+
+
+def test_carcass_term_kelvin_voigt_closed_form(tire, rr):
+    """A carcass with eta = omega tau (m = 1 at T_ref, tau = eta_ref/omega_ref), by hand.
+
+    f = chi Fz/(C_z' R_e) sum_n n w_n n Omega tau with sum n^2 w_n = R_e^2 <g'^2>/<g^2>
+    = 5 R_e^2/(2 a^2), so f = (5/2) chi tau rho V / a^2, rho = Fz/C_z': the time-domain loss
+    int E tau (d eps/dt)^2 dt of a Kelvin-Voigt solid, per unit distance and load.
+    """
+    kv = replace(rr, carcass_loss_slope=1.0)
+    tau = kv.carcass_loss_tangent / kv.carcass_reference_frequency
+    V = 0.01  # slow enough that eta(n Omega) stays below its cap for every harmonic
+    for Fz in (1000.0, 4000.0, 9000.0):
+        a, _ = tire.patch.size(Fz)
+        rho = Fz / tire.patch.vertical_stiffness
+        got = float(rrm.carcass_coefficient(tire, kv, Fz, np.array(V),
+                                            np.array(kv.carcass_reference_temperature),
+                                            n_rev=1 << 16))
+        want = 2.5 * kv.deflection_energy_share * tau * rho * V / a**2
+        assert got == pytest.approx(want, rel=5e-3)
+    # constant loss tangent: f = chi eta Fz/(C_z' R_e) sum n w_n, sum n w_n ~ R/a (one cycle
+    # per revolution and element, not the time-averaged energy's 1 - 5a/(6 pi R))
+    flat = replace(rr, carcass_loss_slope=0.0)
+    a, _ = tire.patch.size(4000.0)
+    w = rrm.harmonic_weights(a, tire.R_e)
+    got = float(rrm.carcass_coefficient(tire, flat, 4000.0, np.array(20.0), np.array(300.0)))
+    base = flat.deflection_energy_share * 4000.0 / (tire.patch.vertical_stiffness * tire.R_e)
+    assert got == pytest.approx(base * flat.carcass_loss_tangent
+                                * np.sum(np.arange(1, w.size + 1) * w), rel=1e-12)
+    assert 0.5 * tire.R_e / a < np.sum(np.arange(1, w.size + 1) * w) < 2 * tire.R_e / a
+
+
+def test_carcass_loss_tangent_shift(rr):
+    w_ref = rr.carcass_reference_frequency
+    assert float(rr.carcass_loss(w_ref, rr.carcass_reference_temperature)) == pytest.approx(
+        rr.carcass_loss_tangent)
+    # one decade of reduced frequency multiplies it by 10^m; capped at 1 when glassy
+    assert float(rr.carcass_loss(10 * w_ref, rr.carcass_reference_temperature)) == \
+        pytest.approx(rr.carcass_loss_tangent * 10 ** rr.carcass_loss_slope)
+    assert float(rr.carcass_loss(1e30, rr.carcass_T_g)) == 1.0
+
+
+def test_bad_inputs(tire, compound):
+    with pytest.raises(InputError, match="load"):
+        rrm.rolling_resistance(tire, compound, 10.0, -1.0, 300.0)
+    for V in (float("nan"), float("inf")):
+        with pytest.raises(InputError, match="finite"):
+            rrm.rolling_resistance(tire, compound, V, 4000.0, 300.0)
+    with pytest.raises(InputError):
+        rrm.rolling_resistance(tire, compound, 10.0, 4000.0, 0.0)
+    with pytest.raises(InputError):
+        rrm.iso28580(tire, compound, load_index_load=-5.0)
+    with pytest.raises(InputError):
+        rrm.RollingResistanceParams(0.008, "glued", 1.0, 0.1, 62.8, 333.15, 0.1, 213.15)
+
+
+def test_file_table_is_read_and_checked(tmp_path):
+    text = (MODELS / "tires" / "passenger.toml").read_text()
+    load_tire(MODELS / "tires" / "passenger.toml")  # the section does not upset load_tire
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace("carcass_loss_slope = 0.1", "carcass_loss_slop = 0.1"))
+    t = load_tire(bad)
+    with pytest.raises((InputError, InputErrors)):
+        rrm.load_rolling_params(t)
+    none = tmp_path / "none.toml"
+    none.write_text(text.split("[rolling_resistance]")[0])
+    with pytest.raises(InputError, match="rolling_resistance"):
+        rrm.load_rolling_params(load_tire(none))
+
+
+def test_cli_json_and_text(capsys, tire, compound):
+    import argparse
+    import json
+
+    from tire_brush.rolling_resistance_cli import add_parser
+
+    p = argparse.ArgumentParser()
+    add_parser(p.add_subparsers(dest="cmd"))
+    tire_file = str(MODELS / "tires" / "passenger.toml")
+    comp_file = str(MODELS / "compounds" / "summer.toml")
+    args = p.parse_args(["rolling-resistance", "--tire", tire_file, "--compound", comp_file,
+                         "--speeds-kmh", "80", "--loads", "0.8", "--T", "25", "--json"])
+    assert args.func(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    iso = rrm.iso28580(tire, compound)
+    assert out["iso"]["rrc_N_per_kN"] == pytest.approx(iso.rrc_N_per_kN)
+    assert out["iso"]["label_class"] == iso.label_class
+    (pt,) = out["points"]
+    one = rrm.rolling_resistance(tire, compound, 80 / 3.6, 0.8 * 6031.0, 298.15)
+    assert pt["rrc_N_per_kN"] == pytest.approx(1000 * float(one.f_r))
+    assert pt["My_Nm"] < 0
+    args = p.parse_args(["rolling-resistance", "--tire", tire_file, "--compound", comp_file,
+                         "--speeds-kmh", "50,80", "--loads", "1", "--T", "25"])
+    assert args.func(args) == 0
+    text = capsys.readouterr().out
+    assert "EU label class" in text and "rrc_N_per_kN" in text

@@ -1,0 +1,563 @@
+r"""Rolling resistance of the brush tire: tread hysteresis (review eq. 29) plus a carcass term.
+
+A rolling tire dissipates, per unit distance travelled, the energy its rubber loses in the
+deformation cycle every material element goes through once per revolution. The resistance
+force is that energy per unit distance, :math:`F_r = f_r F_z`, and in ISO-W wheel axes the
+road's moment on the tire for forward rolling is :math:`M_y = -f_r F_z R_e` (``docs/axes.md``).
+Two parts are added:
+
+**Tread** (the physics route of the review). The footprint pressure p(x) of
+:class:`~tire_brush.params.PatchLaw` passes through the tread layer at the rolling speed V.
+Review eq. (29) for a line load, with the half-space compliance replaced by that of a layer of
+thickness h (:func:`lookup.rolling.tread_rolling_resistance`), gives the energy the tread
+dissipates per unit distance:
+
+.. math:: f_{\rm tread} = \frac{1}{\pi f_N}\int_0^\infty dq\, q\,
+          \mathrm{Im}\,C(q, qV)\,|P(q)|^2 ,
+
+with the compound's master curve read at :math:`qV a_T(T)` (review eqs. 1-6 and the WLF
+shift), T the tread temperature. For a grooved tread (``tread_support = "winkler"``) the
+pressure on the rubber is :math:`p/(1-\phi)` over the land share :math:`1-\phi` of the
+footprint; the loss being quadratic in the pressure, the coefficient is divided by
+:math:`1-\phi`. Because time-temperature superposition holds for eq. (29), the tread term
+depends on V and T only through the reduced speed :math:`V a_T(T)`; it is evaluated once per
+load for all reduced speeds.
+
+**Carcass** (belt, plies, sidewalls, bead: what the tread's compression cannot explain; a
+passenger tire's tread layer contributes roughly half of the losses, Walter & Conant, *Tire Sci.
+Technol.* 2, 235 (1974); Schuring, *Rubber Chem. Technol.* 53, 600 (1980)). The deflection-
+energy argument: each material element of the structure is strained by the passage through the
+footprint, a pulse repeated once per revolution (angular frequency :math:`\Omega = V/R_e`).
+For a linear material with loss modulus :math:`E'' = \eta(\omega) E'`, a strain
+:math:`c\cos\omega t` loses :math:`\pi E'' c^2` per cycle; a periodic strain
+:math:`\varepsilon(t) = \sum_n \hat\varepsilon_n e^{in\Omega t}` goes through n cycles of
+its n-th harmonic per revolution and so loses
+:math:`4\pi\sum_{n\ge1} n\,\eta(n\Omega)\,E'|\hat\varepsilon_n|^2` per revolution, where
+:math:`E'|\hat\varepsilon_n|^2` is the time-averaged energy stored in harmonic n. Summed over
+all elements (every phase of the pulse is present at any instant) the stored energy is the
+tire's deflection energy :math:`U = \chi F_z^2/(2 C_z')` (:math:`C_z'` the vertical stiffness
+at the inflation pressure, :math:`\chi` the share of it stored in the lossy structure rather
+than in the inflation gas), split over the harmonics as the pulse shape g is, so that
+
+.. math:: E_{\rm rev} = 4\pi U \sum_{n\ge1} n\,w_n\,\eta(n\Omega),\qquad
+          w_n = \frac{2|\hat g_n|^2}{\langle g^2\rangle},\qquad
+          f_{\rm carcass} = \frac{E_{\rm rev}}{2\pi R_e F_z}
+          = \chi\,\frac{F_z}{C_z' R_e}\sum_{n\ge1} n\,w_n\,\eta(n\Omega) .
+
+The pulse is that of a radial-spring (Winkler) ring flattened over the patch length 2a of the
+patch law, :math:`g = 1 - x^2/a^2` for :math:`|x| < a` (travel coordinate x, period
+:math:`2\pi R_e`). Each element thus goes through one load-unload cycle per revolution, and
+the loss per revolution is of the order of :math:`\pi\eta` times the sum of the elements'
+peak energies, :math:`U` times :math:`\sim\pi R_e/a` (:math:`\sum n w_n` grows as R/a).
+Two cases integrate by hand (tests): :math:`\sum_n w_n = 1 - 5a/(6\pi R_e)` (the mean
+:math:`\hat g_0` carries no loss), and for a Kelvin-Voigt material, :math:`\eta = \omega\tau`,
+Parseval gives :math:`\sum n^2 w_n = R_e^2\langle (dg/dx)^2\rangle/\langle g^2\rangle
+= 5R_e^2/(2a^2)`, i.e. :math:`f = (5/2)\chi\tau\rho V/a^2`
+(:math:`\rho = F_z/C_z'`), the time-domain loss :math:`\int E\tau\dot\varepsilon^2 dt`.
+The same "loss = hysteresis times strain energy" bookkeeping is what finite-element
+rolling-resistance and tire-temperature models apply element by element (Lin & Hwang, *Math.
+Comput. Simul.* 67, 235 (2004)).
+
+The carcass loss tangent follows the rubbery-side power law
+:math:`\eta(\omega, T) = \eta_{\rm ref}\,(\omega a_c(T)/(\omega_{\rm ref} a_c(T_{\rm ref})))^m`,
+capped at 1, with the WLF shift of the "universal" constants referred to the carcass rubber's
+glass temperature (Williams, Landel & Ferry, *J. Am. Chem. Soc.* 77, 3701 (1955)),
+:math:`\log_{10} a_c = -17.44 (T - T_g)/(51.6 + T - T_g)`. Its parameters are in the tire
+file's ``[rolling_resistance]`` table, each with its source or marked as a judgment.
+
+Limits (approximate physics, said so): the deflection energy of a linear vertical spring makes
+the carcass loss grow as :math:`F_z^2` (f_r proportional to the load), whereas measured
+rolling resistance grows as :math:`F_z^{0.9}` (ISO 28580 / SAE J2452 fits); the missing part is
+the bending of the tread band into and out of the flat footprint, whose energy grows with the
+footprint length, not with the deflection squared. One temperature (the tread's) stands for
+the whole tire; the frequency content is that of a Winkler ring, not of a shell; standing waves
+(above ~150 km/h) are not modelled.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from lookup.compound import Compound
+from lookup.errors import InputError
+from lookup.rolling import EffectiveModulus, _check_profile, _profile_integral, bonded_layer_factor
+
+from .params import TireParams
+
+#: Speed below which the coefficient is held at its value (creep limit) [m/s]: the rolling
+#: frequency is then below 0.05 Hz, quasi-static for the rubber on the rubbery side.
+V_CREEP = 0.1
+
+#: Default node vectors of :func:`core_table` (rolling speed 0.1-70 m/s, tread temperature
+#: 230-400 K, load 200-12000 N).
+CORE_LOG10_V = np.linspace(-1.0, math.log10(70.0), 15)
+CORE_T_K = np.linspace(230.0, 400.0, 18)
+CORE_LOG10_FZ = np.linspace(math.log10(200.0), math.log10(12000.0), 12)
+
+#: ISO 28580 test conditions (passenger tires): 80 km/h, 25 C, 80 % of the load-index load.
+ISO_SPEED = 80.0 / 3.6
+ISO_T_K = 298.15
+ISO_LOAD_SHARE = 0.8
+
+#: EU tire label (Regulation (EU) 2020/740, C1 tires): upper bound of the RRC [N/kN] of each
+#: class, the RRC taken to one decimal; above the last bound: class E.
+EU_CLASS_BOUNDS = (("A", 6.5), ("B", 7.7), ("C", 9.0), ("D", 10.5))
+
+#: WLF "universal" constants referred to T_g (Williams, Landel & Ferry 1955).
+_WLF_C1, _WLF_C2 = 17.44, 51.6
+
+#: Samples of the footprint profile (eq. 29) and of one revolution (carcass harmonics).
+_N_PROFILE = 81
+_N_REV = 4096
+
+
+@dataclass(frozen=True)
+class RollingResistanceParams:
+    """Parameters of the rolling-resistance model (the tire TOML's ``[rolling_resistance]``).
+
+    Attributes
+    ----------
+    tread_depth : float
+        Tread thickness h [m] of eq. (29)'s layer.
+    tread_support : str
+        ``"winkler"`` (blocks free to bulge) or ``"bonded"`` (continuous layer on the belt).
+    deflection_energy_share : float
+        chi [1]: share of the deflection energy Fz^2/(2 C_z') stored in lossy material.
+    carcass_loss_tangent : float
+        eta_ref [1] at the reference frequency and temperature.
+    carcass_reference_frequency : float
+        omega_ref [rad/s].
+    carcass_reference_temperature : float
+        T_ref [K].
+    carcass_loss_slope : float
+        m [1] of eta ~ (omega a_T)^m.
+    carcass_T_g : float
+        Glass temperature [K] of the carcass rubber's WLF shift.
+    size : str
+        Size designation (for the report).
+    load_index : int
+        Load index.
+    load_index_load : float
+        Maximum load of the load index [N].
+    iso_inflation : float
+        Inflation pressure of the ISO 28580 test [Pa].
+    provenance : str
+        Where the numbers come from.
+    """
+
+    tread_depth: float
+    tread_support: str
+    deflection_energy_share: float
+    carcass_loss_tangent: float
+    carcass_reference_frequency: float
+    carcass_reference_temperature: float
+    carcass_loss_slope: float
+    carcass_T_g: float
+    size: str = ""
+    load_index: int = 0
+    load_index_load: float = 0.0
+    iso_inflation: float = 0.0
+    provenance: str = ""
+
+    def __post_init__(self) -> None:
+        for name in ("tread_depth", "carcass_reference_frequency",
+                     "carcass_reference_temperature", "carcass_T_g"):
+            _positive(getattr(self, name), f"RollingResistanceParams.{name}")
+        for name in ("deflection_energy_share", "carcass_loss_tangent", "carcass_loss_slope",
+                     "load_index_load", "iso_inflation"):
+            x = getattr(self, name)
+            if not (isinstance(x, int | float) and math.isfinite(x) and x >= 0):
+                raise InputError("must be a finite number >= 0",
+                                 field=f"RollingResistanceParams.{name}", value=x)
+        if self.tread_support not in ("winkler", "bonded"):
+            raise InputError("must be 'winkler' or 'bonded'",
+                             field="RollingResistanceParams.tread_support",
+                             value=self.tread_support)
+        if not self.carcass_reference_temperature - self.carcass_T_g > -_WLF_C2 + 1.0:
+            raise InputError("reference temperature too far below T_g for the WLF shift",
+                             field="RollingResistanceParams.carcass_reference_temperature",
+                             value=self.carcass_reference_temperature)
+
+    def carcass_log10_aT(self, T: np.ndarray) -> np.ndarray:
+        """log10 a_c(T) - log10 a_c(T_ref): WLF with the universal constants at T_g."""
+        def wlf(t):
+            d = np.asarray(t, float) - self.carcass_T_g
+            return -_WLF_C1 * d / (_WLF_C2 + d)
+        return wlf(T) - wlf(self.carcass_reference_temperature)
+
+    def carcass_loss(self, omega: np.ndarray, T: np.ndarray) -> np.ndarray:
+        """Carcass loss tangent eta(omega, T) [1] (power law on the rubbery side, capped at 1).
+
+        omega [rad/s] > 0 and T [K] broadcast together.
+        """
+        x = (np.log10(np.asarray(omega, float) / self.carcass_reference_frequency)
+             + self.carcass_log10_aT(T))
+        return np.minimum(self.carcass_loss_tangent * 10.0 ** (self.carcass_loss_slope * x),
+                          1.0)
+
+
+def _positive(x: object, name: str) -> float:
+    if isinstance(x, bool) or not isinstance(x, int | float) or not (math.isfinite(x) and x > 0):
+        raise InputError("must be a finite number > 0", field=name, value=x)
+    return float(x)
+
+
+@functools.lru_cache(maxsize=16)
+def _load_from_file(path: str) -> RollingResistanceParams:
+    from lookup.config import Table
+
+    t = Table.load(path)
+    tab = t.table("rolling_resistance", required=False)
+    if tab is None:
+        raise InputError("the tire file has no [rolling_resistance] table (the parameters of "
+                         "tire_brush.rolling_resistance)", source=Path(path),
+                         field="rolling_resistance")
+    T = "temperature"
+    try:
+        out = RollingResistanceParams(
+            tread_depth=tab.quantity("tread_depth", "length", positive=True),
+            tread_support=tab.string("tread_support", choices=("winkler", "bonded")),
+            deflection_energy_share=tab.quantity("deflection_energy_share", "dimensionless",
+                                                 nonnegative=True, maximum=1.0),
+            carcass_loss_tangent=tab.quantity("carcass_loss_tangent", "dimensionless",
+                                              nonnegative=True, maximum=1.0),
+            carcass_reference_frequency=tab.quantity("carcass_reference_frequency",
+                                                     "angular_frequency", positive=True),
+            carcass_reference_temperature=tab.quantity("carcass_reference_temperature", T,
+                                                       positive=True),
+            carcass_loss_slope=tab.quantity("carcass_loss_slope", "dimensionless",
+                                            nonnegative=True, maximum=1.0),
+            carcass_T_g=tab.quantity("carcass_T_g", T, positive=True),
+            size=tab.string("size", ""),
+            load_index=tab.integer("load_index", 0, minimum=0),
+            load_index_load=tab.quantity("load_index_load", "force", 0.0, nonnegative=True),
+            iso_inflation=tab.quantity("iso_inflation", "pressure", 0.0, nonnegative=True),
+            provenance=tab.string("provenance", ""),
+        )
+    except InputError as exc:
+        raise InputError(exc.message, source=Path(path), field=exc.field,
+                         value=exc.value) from None
+    tab.check_unknown()
+    return out
+
+
+def load_rolling_params(params: TireParams) -> RollingResistanceParams:
+    """The ``[rolling_resistance]`` table of the file ``params`` was read from."""
+    if not params.source:
+        raise InputError("tire parameters built in code carry no [rolling_resistance] table: "
+                         "pass rr=RollingResistanceParams(...)", field="rolling_resistance")
+    return _load_from_file(str(params.source))
+
+
+@dataclass(frozen=True)
+class RollingResistance:
+    """Result of :func:`rolling_resistance` (arrays of the broadcast input shape).
+
+    Attributes
+    ----------
+    f_r : numpy.ndarray
+        Coefficient F_r / Fz [1] (0 where Fz = 0).
+    f_tread, f_carcass : numpy.ndarray
+        Its tread (eq. 29) and carcass (deflection energy) parts [1].
+    F_r : numpy.ndarray
+        Resistance force f_r Fz [N] (>= 0, opposing the motion).
+    My : numpy.ndarray
+        Rolling-resistance moment of the road on the tire [N m], ISO-W:
+        -sign(V) f_r Fz R_e (negative for forward rolling, 0 at V = 0 or Fz = 0).
+    heat_rate : numpy.ndarray
+        Power dissipated, F_r |V| [W].
+    tread_share : numpy.ndarray
+        Share of heat_rate dissipated in the tread layer, f_tread / f_r [1] (0 where f_r = 0).
+    """
+
+    f_r: np.ndarray
+    f_tread: np.ndarray
+    f_carcass: np.ndarray
+    F_r: np.ndarray
+    My: np.ndarray
+    heat_rate: np.ndarray
+    tread_share: np.ndarray
+
+    @property
+    def rrc_N_per_kN(self) -> np.ndarray:
+        """Rolling-resistance coefficient in N/kN (1000 f_r)."""
+        return 1000.0 * self.f_r
+
+
+# -- the parts ---------------------------------------------------------------------------------
+def footprint_profile(params: TireParams, Fz: float, n: int = _N_PROFILE
+                      ) -> tuple[np.ndarray, np.ndarray, float]:
+    """Pressure along the footprint of :class:`~tire_brush.params.PatchLaw` at load ``Fz``.
+
+    Flat at ``p_peak`` over ``|x| <= c`` with parabolic ends ``p_peak (1 - t^2)``,
+    ``t = (|x| - c)/(a - c)``; ``p_peak = 3 Fz / (2 a b (2 + c/a))`` so that the mean pressure
+    is ``Fz / (2 a b)`` (the PatchLaw docstring).
+
+    Returns
+    -------
+    x : numpy.ndarray
+        Positions [m] from -a to a.
+    p : numpy.ndarray
+        Gross pressure [Pa].
+    b : float
+        Patch width [m].
+    """
+    law = params.patch
+    a, b = law.size(Fz)
+    c = law.flat_share(Fz) * a
+    p_peak = 3.0 * Fz / (2.0 * a * b * (2.0 + c / a))
+    x = np.linspace(-a, a, n)
+    t = np.clip((np.abs(x) - c) / (a - c), 0.0, 1.0)
+    return x, p_peak * (1.0 - t * t), b
+
+
+def tread_coefficient(params: TireParams, compound: Compound, rr: RollingResistanceParams,
+                      Fz: float, V_reduced: np.ndarray) -> np.ndarray:
+    r"""Tread part of f_r at one load for rolling speeds already reduced to the compound's T_ref.
+
+    Review eq. (29) through a layer (see the module doc and
+    :func:`lookup.rolling.tread_rolling_resistance`, which this reproduces for one speed),
+    :math:`V_{\rm red} = V a_T(T)`. Divided by the land share for the Winkler (grooved) tread.
+    """
+    x, p, _ = footprint_profile(params, Fz)
+    land = 1.0 - params.tread.void_ratio if rr.tread_support == "winkler" else 1.0
+    x, p_rubber, f_N = _check_profile(x, p / land)
+    mod = EffectiveModulus(compound, compound.T_ref)
+    h = rr.tread_depth
+    if rr.tread_support == "bonded":
+        nu = compound.nu
+
+        def weight(q, w):
+            return 2.0 * bonded_layer_factor(q * h, nu) * mod.im_compliance(w)
+    else:
+        c = 1.0 - compound.nu**2
+
+        def weight(q, w):
+            return q * h * mod.im_compliance(w) / c
+    V_reduced = np.asarray(V_reduced, float)
+    return _profile_integral(x, p_rubber, f_N, V_reduced.ravel(), weight).reshape(
+        V_reduced.shape)
+
+
+def harmonic_weights(a: float, R: float, n_rev: int = _N_REV) -> np.ndarray:
+    """Weights w_n (n = 1 .. n_rev/2) of the deflection pulse's harmonics (module doc).
+
+    The pulse ``g = 1 - x^2/a^2`` on ``|x| < a`` of a revolution of length ``2 pi R``;
+    ``w_n = 2 |g_n|^2 / <g^2>``, so that ``sum w_n = 1 - g_0^2/<g^2> = 1 - 5a/(6 pi R)``.
+    """
+    L = 2.0 * math.pi * R
+    s = (np.arange(n_rev) + 0.5) * (L / n_rev) - 0.5 * L
+    g = np.clip(1.0 - (s / a) ** 2, 0.0, None)
+    gh = np.fft.rfft(g) / n_rev
+    mean_sq = float(np.mean(g * g))
+    w = 2.0 * np.abs(gh[1:]) ** 2 / mean_sq
+    if n_rev % 2 == 0:  # the Nyquist term is not paired
+        w[-1] *= 0.5
+    return w
+
+
+def carcass_coefficient(params: TireParams, rr: RollingResistanceParams, Fz: float,
+                        V: np.ndarray, T: np.ndarray, n_rev: int = _N_REV) -> np.ndarray:
+    r"""Carcass part of f_r at one load: :math:`\chi F_z/(C_z' R_e)\sum_n n w_n
+    \eta(nV/R_e, T)`.
+
+    ``V`` [m/s] > 0 and ``T`` [K] broadcast together; ``n_rev`` samples of a revolution
+    (harmonics up to n_rev/2).
+    """
+    a, _ = params.patch.size(Fz)
+    w = harmonic_weights(a, params.R_e, n_rev)
+    n = np.arange(1, w.size + 1, dtype=float)
+    V = np.asarray(V, float)
+    T = np.asarray(T, float)
+    Vb, Tb = np.broadcast_arrays(V, T)
+    omega = Vb[..., None] / params.R_e * n
+    eta = rr.carcass_loss(omega, Tb[..., None])
+    base = rr.deflection_energy_share * Fz / (params.patch.vertical_stiffness * params.R_e)
+    return base * np.sum(n * w * eta, axis=-1)
+
+
+# -- the public functions ------------------------------------------------------------------------
+def _check_inputs(V, Fz, T_K) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    V, Fz, T = (np.asarray(v, dtype=float) for v in (V, Fz, T_K))
+    for arr, name, unit in ((V, "V", "m/s"), (Fz, "Fz", "N"), (T, "T_K", "K")):
+        bad = ~np.isfinite(arr)
+        if bad.any():
+            raise InputError(f"must be finite [{unit}]", field=name,
+                             value=float(arr[bad][0]) if arr.ndim else float(arr))
+    if (Fz < 0).any():
+        raise InputError("the load must be >= 0 N", field="Fz", value=float(Fz.min()))
+    if (T <= 0).any():
+        raise InputError("the temperature must be > 0 K", field="T_K", value=float(T.min()))
+    return np.broadcast_arrays(V, Fz, T)
+
+
+def rolling_resistance(params: TireParams, compound: Compound,
+                       V: float | Sequence[float] | np.ndarray,
+                       Fz: float | Sequence[float] | np.ndarray,
+                       T_K: float | Sequence[float] | np.ndarray,
+                       rr: RollingResistanceParams | None = None) -> RollingResistance:
+    """Rolling resistance of the brush tire (module doc: tread eq. 29 plus carcass term).
+
+    Parameters
+    ----------
+    params : TireParams
+        The tire (patch law, R_e, void ratio; its file's ``[rolling_resistance]`` table).
+    compound : Compound
+        The tread compound (master curve, a_T).
+    V : float or array
+        Rolling speed [m/s] (sign: direction of rolling; |V| below :data:`V_CREEP` is
+        evaluated at V_CREEP, the creep limit).
+    Fz : float or array
+        Load [N], >= 0.
+    T_K : float or array
+        Tread temperature [K], > 0 (also stands for the carcass temperature).
+    rr : RollingResistanceParams, optional
+        Overrides the tire file's table.
+
+    Returns
+    -------
+    RollingResistance
+        Arrays of the broadcast shape of V, Fz, T_K.
+    """
+    Vb, Fzb, Tb = _check_inputs(V, Fz, T_K)
+    if rr is None:
+        rr = load_rolling_params(params)
+    shape = Vb.shape
+    Vf, Ff, Tf = (a.ravel() for a in (Vb, Fzb, Tb))
+    Vabs = np.maximum(np.abs(Vf), V_CREEP)
+    f_t = np.zeros(Vf.size)
+    f_c = np.zeros(Vf.size)
+    log10_aT = np.asarray(compound.log10_aT(Tf), float)
+    for load in np.unique(Ff[Ff > 0]):
+        sel = Ff == load
+        f_t[sel] = tread_coefficient(params, compound, rr, float(load),
+                                     Vabs[sel] * 10.0 ** log10_aT[sel])
+        f_c[sel] = carcass_coefficient(params, rr, float(load), Vabs[sel], Tf[sel])
+    f_r = f_t + f_c
+    F_r = f_r * Ff
+    My = -np.sign(Vf) * F_r * params.R_e
+    heat = F_r * np.abs(Vf)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        share = np.where(f_r > 0, f_t / np.where(f_r > 0, f_r, 1.0), 0.0)
+    return RollingResistance(*(v.reshape(shape) for v in (f_r, f_t, f_c, F_r, My + 0.0, heat,
+                                                          share)))
+
+
+def core_table(params: TireParams, compound: Compound, log10_V: np.ndarray, T_K: np.ndarray,
+               log10_Fz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Tables of (f_r, tread_share) on the nodes (log10 V, T, log10 Fz) for the C tire core.
+
+    Parameters
+    ----------
+    params : TireParams
+    compound : Compound
+    log10_V : array, shape (nV,)
+        log10 of the rolling speed |V| [m/s] (default nodes :data:`CORE_LOG10_V`).
+    T_K : array, shape (nT,)
+        Tread temperature [K] (:data:`CORE_T_K`).
+    log10_Fz : array, shape (nFz,)
+        log10 of the load [N] (:data:`CORE_LOG10_FZ`).
+
+    Returns
+    -------
+    f_r : numpy.ndarray, shape (nV, nT, nFz)
+        Rolling-resistance coefficient [1]; ``f_r[i, j, k]`` is
+        ``rolling_resistance(params, compound, 10**log10_V[i], 10**log10_Fz[k], T_K[j]).f_r``.
+    tread_share : numpy.ndarray, shape (nV, nT, nFz)
+        Share of the dissipated power that goes into the tread layer [1].
+    """
+    lv, tk, lf = (np.atleast_1d(np.asarray(a, float)) for a in (log10_V, T_K, log10_Fz))
+    for arr, name in ((lv, "log10_V"), (tk, "T_K"), (lf, "log10_Fz")):
+        if arr.ndim != 1 or arr.size == 0 or not np.isfinite(arr).all():
+            raise InputError("must be a non-empty 1-D array of finite numbers", field=name)
+    V, T, Fz = np.meshgrid(10.0**lv, tk, 10.0**lf, indexing="ij")
+    res = rolling_resistance(params, compound, V, Fz, T)
+    return res.f_r, res.tread_share
+
+
+# -- ISO 28580 and the EU label ------------------------------------------------------------------
+def eu_label_class(rrc_N_per_kN: float) -> str:
+    """EU label fuel-efficiency class of a passenger (C1) tire from its RRC [N/kN].
+
+    A <= 6.5, B 6.6-7.7, C 7.8-9.0, D 9.1-10.5, E >= 10.6 (Regulation (EU) 2020/740, Annex I);
+    the RRC is taken to one decimal (half up) first.
+    """
+    try:
+        x = float(rrc_N_per_kN)
+    except (TypeError, ValueError):
+        raise InputError("not a number", field="rrc_N_per_kN", value=rrc_N_per_kN) from None
+    if not (math.isfinite(x) and x >= 0):
+        raise InputError("must be a finite number >= 0 [N/kN]", field="rrc_N_per_kN",
+                         value=rrc_N_per_kN)
+    r = math.floor(x * 10.0 + 0.5 + 1e-9) / 10.0
+    for cls, upper in EU_CLASS_BOUNDS:
+        if r <= upper + 1e-9:
+            return cls
+    return "E"
+
+
+@dataclass(frozen=True)
+class IsoResult:
+    """ISO 28580 numbers of a tire (see :func:`iso28580`)."""
+
+    rrc_N_per_kN: float
+    label_class: str
+    load_N: float
+    inflation_Pa: float
+    speed_m_s: float
+    T_K: float
+    tread_share: float
+    per_K: float
+    """Relative change of f_r per K over ``T_K -+ 5 K`` [1/K] (ISO 28580: about -0.008)."""
+
+    def as_dict(self) -> dict:
+        """JSON-able form."""
+        return dict(self.__dict__)
+
+
+def iso28580(params: TireParams, compound: Compound, load_index_load: float | None = None,
+             rr: RollingResistanceParams | None = None, T_K: float = ISO_T_K) -> IsoResult:
+    """Rolling-resistance coefficient at the ISO 28580 conditions and its EU label class.
+
+    80 km/h, 25 C, 80 % of the load-index load, at the ISO inflation pressure of the tire file
+    (210 kPa for a standard-load passenger tire); the patch law is evaluated at that pressure.
+    Not modelled: the drum curvature (ISO 28580 corrects to a 2 m drum; a flat road gives
+    less) and the warm-up, during which the tire runs above the ambient 25 C.
+
+    Parameters
+    ----------
+    params, compound
+        The tire and its tread compound.
+    load_index_load : float, optional
+        Maximum load of the load index [N]; default: the tire file's ``load_index_load``.
+    rr : RollingResistanceParams, optional
+    T_K : float
+        Temperature of the test [K] (default 298.15).
+
+    Returns
+    -------
+    IsoResult
+        RRC [N/kN], class, conditions, tread share and the change per K over T_K -+ 5 K.
+    """
+    if rr is None:
+        rr = load_rolling_params(params)
+    LI = rr.load_index_load if load_index_load is None else load_index_load
+    LI = _positive(LI, "load_index_load")
+    T0 = _positive(T_K, "T_K")
+    tire = params
+    if rr.iso_inflation > 0:
+        tire = replace(params, patch=replace(params.patch, p_inflation=rr.iso_inflation))
+    Fz = ISO_LOAD_SHARE * LI
+    res = rolling_resistance(tire, compound, ISO_SPEED, Fz, np.array([T0, T0 - 5.0, T0 + 5.0]),
+                             rr=rr)
+    f0, f_lo, f_hi = (float(v) for v in res.f_r)
+    rrc = 1000.0 * f0
+    return IsoResult(rrc_N_per_kN=rrc, label_class=eu_label_class(rrc), load_N=Fz,
+                     inflation_Pa=tire.patch.p_inflation, speed_m_s=ISO_SPEED, T_K=T0,
+                     tread_share=float(res.tread_share[0]), per_K=(f_hi - f_lo) / (10.0 * f0))
