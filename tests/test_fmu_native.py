@@ -20,10 +20,10 @@ from fmu_src.make.native_build import (
     MODEL_IDENTIFIER,
     TABLE_FILE,
     build_native_fmu,
-    read_table_bytes,
 )
 from fmu_src.runtime.guard import InputGuard
 from fmu_src.runtime.interface import LIMITS, default_limits
+from fmu_src.runtime.table_file import read_table_bytes
 from tire_brush.friction import GridFriction, as_table
 from tire_brush.params import load_tire
 from tire_brush.transient import TransientBrushTire

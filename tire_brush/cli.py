@@ -40,6 +40,7 @@ from lookup.cli import (
 from lookup.errors import InputError
 
 from .axes import AXES, BRUSH_AXES, SlipInputs, Wrench, convert_inputs, convert_wrench
+from .rolling_resistance_cli import add_parser as add_rolling_resistance_parser
 
 KEYS = ("kappa", "alpha", "Fx", "Fy", "Mz", "mu_eff", "mu_slide", "sliding_fraction",
         "dT_flash_max")
@@ -105,6 +106,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--plot", metavar="FILE.png", help="write a plot of the curve")
     c.set_defaults(func=_run_curve)
     _register_fit_mf(ts)
+    add_rolling_resistance_parser(ts)
 
 
 def _run_curve(args: argparse.Namespace) -> int:

@@ -561,3 +561,107 @@ def iso28580(params: TireParams, compound: Compound, load_index_load: float | No
     return IsoResult(rrc_N_per_kN=rrc, label_class=eu_label_class(rrc), load_N=Fz,
                      inflation_Pa=tire.patch.p_inflation, speed_m_s=ISO_SPEED, T_K=T0,
                      tread_share=float(res.tread_share[0]), per_K=(f_hi - f_lo) / (10.0 * f0))
+
+
+# -- the table the tire core reads ------------------------------------------------------------
+@dataclass(frozen=True)
+class RollingTable:
+    """Rolling resistance tabulated for the tire core (``tf_tire_set_rolling``).
+
+    The core interpolates trilinearly in (log10 |V_r|, T_tread, log10 Fz), clamped to the
+    nodes, except below the first speed node, where it takes ``f_r`` proportional to |V_r|
+    (a viscoelastic solid's loss modulus is linear in the frequency at low frequency), so that
+    ``My`` is continuous through standstill; :func:`rolling_resistance` itself holds the value
+    below :data:`V_CREEP`.
+
+    Attributes
+    ----------
+    log10_v, T, log10_Fz : numpy.ndarray
+        Node axes: log10 of |V_r| [m/s], tread temperature [K], log10 of the load [N].
+    f_r, tread_share : numpy.ndarray
+        Shape ``(nV, nT, nFz)`` (:func:`core_table`).
+    compound : str
+        Name of the compound the tread term was computed with.
+    """
+
+    log10_v: np.ndarray
+    T: np.ndarray
+    log10_Fz: np.ndarray
+    f_r: np.ndarray
+    tread_share: np.ndarray
+    compound: str = ""
+
+    @property
+    def log10_p(self) -> np.ndarray:
+        """The third axis under the name of the friction table's (file format)."""
+        return self.log10_Fz
+
+    @property
+    def values(self) -> np.ndarray:
+        """Node values ``(f_r, tread_share, 0)``, shape ``(nV, nT, nFz, 3)`` (file format)."""
+        return np.stack([self.f_r, self.tread_share, np.zeros_like(self.f_r)], axis=-1)
+
+
+def _numbers(d: object, path: str = "") -> dict[str, object]:
+    """The numbers and model names of a nested describe() dict by path (text fields, which
+    change with documentation edits, left out)."""
+    if isinstance(d, dict):
+        out: dict[str, object] = {}
+        for k, v in d.items():
+            if k not in ("source", "provenance", "description"):
+                out |= _numbers(v, f"{path}.{k}")
+        return out
+    if isinstance(d, list | tuple):
+        out = {}
+        for i, v in enumerate(d):
+            out |= _numbers(v, f"{path}[{i}]")
+        return out
+    return {path: d}
+
+
+def _same_compound(a: dict, b: dict) -> bool:
+    """Two :meth:`~lookup.compound.Compound.describe` dicts hold the same model: the same
+    keys, names and numbers to 1e-12 relative (text fields ignored)."""
+    na, nb = _numbers(a), _numbers(b)
+    if na.keys() != nb.keys():
+        return False
+    for k, x in na.items():
+        y = nb[k]
+        if isinstance(x, int | float) and isinstance(y, int | float) and \
+                not isinstance(x, bool) and not isinstance(y, bool):
+            if not math.isclose(x, y, rel_tol=1e-12, abs_tol=0.0):
+                return False
+        elif x != y:
+            return False
+    return True
+
+
+def rolling_table(params: TireParams, grid) -> tuple[RollingTable | None, str]:
+    """The rolling-resistance table of a tire on a friction grid (for an FMU), or ``None``
+    and the reason.
+
+    The tread term needs the compound the grid was built from: it is loaded by the name in the
+    grid's provenance and must agree with the parameters recorded there (a grid of another
+    compound of the same name is refused). The tire needs its file's ``[rolling_resistance]``
+    table.
+    """
+    from lookup.compound import load_compound
+
+    meta = getattr(grid, "meta", {}) or {}
+    name = meta.get("compound_name")
+    if not name or not isinstance(meta.get("compound"), dict):
+        return None, "the grid records no compound (the tread term needs its master curve)"
+    try:
+        compound = load_compound(name)
+    except InputError as exc:
+        return None, f"the grid's compound {name!r} cannot be loaded ({exc})"
+    if not _same_compound(compound.describe(), meta["compound"]):
+        return None, (f"the shipped compound {name!r} differs from the one the grid was built "
+                      f"with")
+    try:
+        load_rolling_params(params)
+    except InputError as exc:
+        return None, f"the tire has no rolling-resistance parameters ({exc.message})"
+    f_r, share = core_table(params, compound, CORE_LOG10_V, CORE_T_K, CORE_LOG10_FZ)
+    return RollingTable(CORE_LOG10_V.copy(), CORE_T_K.copy(), CORE_LOG10_FZ.copy(), f_r, share,
+                        compound=name), ""

@@ -48,7 +48,8 @@ from fmu_src.runtime.interface import (
     tire_to_dict,
     variables,
 )
-from fmu_src.runtime.slave import BUILD_FILE, CORE_DIR, DATA_DIR
+from fmu_src.runtime.slave import BUILD_FILE, CORE_DIR, DATA_DIR, ROLLING_FILE
+from fmu_src.runtime.table_file import table_bytes
 from lookup import __version__
 from lookup.errors import InputError, TirefricError
 from tire_brush.params import TireParams, load_tire
@@ -278,6 +279,9 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
     data.mkdir(parents=True, exist_ok=True)
     npz = _grid_npz(grid)
     (data / GRID_FILE).write_bytes(npz)
+    rolling_bytes, rolling = _rolling_resource(tire, grid)
+    if rolling_bytes:
+        (data / ROLLING_FILE).write_bytes(rolling_bytes)
     s0 = float(grid.meta["s0_m"]) if options.s0 is None else float(options.s0)
     tire_d = tire_to_dict(tire)
     tire_d["file"] = Path(tire.source).name if tire.source else ""
@@ -301,9 +305,10 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
         "options": {"n_elements": options.n_elements, "dt_internal": options.dt_internal,
                     "s0": s0, "v_floor": options.v_floor, "axes": options.axes},
         "limits": default_limits(tire),
+        "rolling": rolling,
         "requirements": list(REQUIREMENTS),
     }
-    h = hashlib.sha256(_json_bytes(build) + npz)
+    h = hashlib.sha256(_json_bytes(build) + npz + rolling_bytes)
     if runtime is not None:
         build["runtime"] = {"package": runtime.package, "slave_module": runtime.slave_module,
                             "code_hash": runtime.code_hash, "modules": runtime.modules}
@@ -319,6 +324,21 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
     build["build_id"] = "sha256:" + h.hexdigest()
     (data / BUILD_FILE).write_bytes(_json_bytes(build))
     return build
+
+
+def _rolling_resource(tire: TireParams, grid: Any) -> tuple[bytes, dict[str, Any]]:
+    """The rolling-resistance table file of the FMU (:mod:`tire_brush.rolling_resistance`;
+    empty bytes when the tire or the grid cannot give one) and its entry in build.json (the
+    file, its hash and the compound, or why there is none: the FMU's ``My`` is then 0)."""
+    from tire_brush.rolling_resistance import rolling_table
+
+    table, why = rolling_table(tire, grid)
+    if table is None:
+        return b"", {"file": None, "why": why}
+    data = table_bytes(table)
+    return data, {"file": ROLLING_FILE, "sha256": "sha256:" + hashlib.sha256(data).hexdigest(),
+                  "compound": table.compound,
+                  "model": "tire_brush.rolling_resistance (docs/rolling.md)"}
 
 
 def guid_of(build_id: str) -> str:

@@ -33,7 +33,6 @@ import hashlib
 import math
 import os
 import shutil
-import struct
 import subprocess
 import sys
 import tempfile
@@ -44,6 +43,7 @@ from typing import Any
 
 from fmu_src.runtime.interface import INPUTS, LIMITS, OUTPUTS, Variable, variables
 from fmu_src.runtime.slave import BUILD_FILE, DATA_DIR
+from fmu_src.runtime.table_file import table_bytes
 from tire_brush import ccore
 from tire_brush.friction import GridFriction, as_table
 from tire_brush.params import (
@@ -74,9 +74,8 @@ MODEL_IDENTIFIER = "BrushTireNative"
 NATIVE_DIR = Path(__file__).parents[1] / "runtime" / "native"
 #: Friction table resource (read by the wrapper).
 TABLE_FILE = "tirefric-table.bin"
-#: Magic bytes and version of :data:`TABLE_FILE`.
-TABLE_MAGIC = b"TIREFRIC-TABLE\0\0"
-TABLE_VERSION = 1
+#: Rolling-resistance table resource (same format; present when the build has one).
+ROLLING_TABLE_FILE = "tirefric-rolling.bin"
 #: Compiler flags (those of the core's own build: C99, no contraction, no fast-math, so the
 #: native FMU rounds as the Python model's core does).
 CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math", "-shared")
@@ -85,55 +84,6 @@ C_SOURCES = ("fmu_wrapper.c", "tirecore.c")
 #: Headers shipped under ``sources/``.
 HEADERS = ("tirecore.h", "tfn_config.h", "fmi2Functions.h", "fmi2FunctionTypes.h",
            "fmi2TypesPlatform.h")
-
-_FNV_OFFSET, _FNV_PRIME = 1469598103934665603, 1099511628211
-
-
-def fnv1a64(data: bytes) -> int:
-    """FNV-1a 64-bit hash (the checksum of the table file and of a serialized FMU state)."""
-    h = _FNV_OFFSET
-    for b in data:
-        h = ((h ^ b) * _FNV_PRIME) & 0xFFFFFFFFFFFFFFFF
-    return h
-
-
-def table_bytes(table: Any) -> bytes:
-    """The friction table as the wrapper reads it (``resources/tirefric-table.bin``).
-
-    Little endian: 16 bytes magic ``TIREFRIC-TABLE\\0\\0``, uint32 version (1), uint32 ``nv``,
-    ``nT``, ``np``; float64 axes ``log10_v[nv]`` [log10 m/s], ``T[nT]`` [K], ``log10_p[np]``
-    [log10 Pa]; float64 ``values[nv][nT][np][3]`` (mu_cold, mu_hot, dT_flash [K]); uint64
-    FNV-1a 64 of all preceding bytes. ``s0`` is not in the file: it is the FMU parameter
-    ``s0`` (``1/s0`` goes to the core when the model is built).
-
-    Parameters
-    ----------
-    table
-        A :class:`tire_brush.friction.BranchTable` (the one the Python model uses).
-    """
-    import numpy as np
-
-    axes = [np.ascontiguousarray(a, dtype="<f8") for a in (table.log10_v, table.T,
-                                                            table.log10_p)]
-    values = np.ascontiguousarray(table.values, dtype="<f8")
-    head = TABLE_MAGIC + struct.pack("<4I", TABLE_VERSION, *(a.size for a in axes))
-    body = head + b"".join(a.tobytes() for a in axes) + values.tobytes()
-    return body + struct.pack("<Q", fnv1a64(body))
-
-
-def read_table_bytes(data: bytes) -> dict[str, Any]:
-    """Inverse of :func:`table_bytes` (tests, tools): axes and values as numpy arrays."""
-    import numpy as np
-
-    if data[:16] != TABLE_MAGIC:
-        raise ValueError("not a tirefric friction table")
-    version, nv, nT, np_ = struct.unpack("<4I", data[16:32])
-    if version != TABLE_VERSION or struct.unpack("<Q", data[-8:])[0] != fnv1a64(data[:-8]):
-        raise ValueError("unsupported version or checksum mismatch")
-    a = np.frombuffer(data[32:-8], dtype="<f8")
-    return {"log10_v": a[:nv], "T": a[nv:nv + nT], "log10_p": a[nv + nT:nv + nT + np_],
-            "values": a[nv + nT + np_:].reshape(nv, nT, np_, 3)}
-
 
 # -- tfn_config.h ------------------------------------------------------------------------------
 def _c_string(s: str) -> str:
@@ -203,7 +153,7 @@ def _param_assignments(index: dict[str, int]) -> list[str]:
     return lines
 
 
-def config_header(vars_: list[Variable], guid: str) -> str:
+def config_header(vars_: list[Variable], guid: str, rolling: bool = False) -> str:
     """``tfn_config.h``: GUID, variable table (start values, bounds), value references of the
     variables the wrapper uses by name, and the parameter mapping onto ``tf_params``."""
     index = {v.name: i for i, v in enumerate(vars_)}
@@ -253,6 +203,8 @@ def config_header(vars_: list[Variable], guid: str) -> str:
         f"#define TFN_GUID {_c_string(guid)}",
         f"#define TFN_MODEL_IDENTIFIER {_c_string(MODEL_IDENTIFIER)}",
         f"#define TFN_TABLE_FILE {_c_string(TABLE_FILE)}",
+        f"#define TFN_HAS_ROLLING {int(bool(rolling))}",
+        f"#define TFN_ROLLING_FILE {_c_string(ROLLING_TABLE_FILE)}",
         f"#define TFN_TOL {_c_double(TOL)}",
         f"#define TFN_NV {len(vars_)}",
         "enum { TFN_REAL, TFN_INTEGER, TFN_BOOLEAN, TFN_STRING };",
@@ -357,13 +309,14 @@ def compile_binary(sources: Path, platform: str, cc: list[str], out_dir: Path) -
     return target
 
 
-def stage_sources(directory: Path, vars_: list[Variable], guid: str) -> dict[str, bytes]:
+def stage_sources(directory: Path, vars_: list[Variable], guid: str,
+                  rolling: bool = False) -> dict[str, bytes]:
     """Write the C sources, the FMI headers and the generated ``tfn_config.h`` into
     ``directory``; returns them by name."""
     files = {"fmu_wrapper.c": (NATIVE_DIR / "fmu_wrapper.c").read_bytes(),
              "tirecore.c": (ccore.SOURCE_DIR / "tirecore.c").read_bytes(),
              "tirecore.h": (ccore.SOURCE_DIR / "tirecore.h").read_bytes(),
-             "tfn_config.h": config_header(vars_, guid).encode()}
+             "tfn_config.h": config_header(vars_, guid, rolling).encode()}
     for h in ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"):
         files[h] = (NATIVE_DIR / "fmi2" / h).read_bytes()
     directory.mkdir(parents=True, exist_ok=True)
@@ -415,7 +368,11 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
                                 grid_source=grid_source)
         s0 = build["options"]["s0"]
         table = table_bytes(as_table(GridFriction(grid_o, s0=s0)))
-        h = hashlib.sha256(b"tirefric-native-fmu\0" + build["build_id"].encode() + table)
+        rolling = b""
+        if build["rolling"]["file"]:
+            rolling = (stage / "resources" / DATA_DIR / build["rolling"]["file"]).read_bytes()
+        h = hashlib.sha256(b"tirefric-native-fmu\0" + build["build_id"].encode() + table
+                           + rolling)
         for name in (*C_SOURCES, "tirecore.h"):
             src = NATIVE_DIR / name if name == "fmu_wrapper.c" else ccore.SOURCE_DIR / name
             h.update(name.encode() + b"\0" + src.read_bytes())
@@ -433,17 +390,19 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
         info = {"info.tire": tire_p.name, "info.grid_hash": grid_o.hash,
                 "info.build_id": build_id}
         vars_ = variables(build["tire"], build["options"], build["limits"], info)
-        sources = stage_sources(stage / "sources", vars_, guid)
+        sources = stage_sources(stage / "sources", vars_, guid, rolling=bool(rolling))
         bins = {p: compile_binary(stage / "sources", p, found[p], Path(tmp) / "bin")
                 for p in wanted}
         build["native"]["platforms"] = sorted(bins)
         # the grid's nodes are in the table resource; the npz (same data) is left out
         build["grid"]["file"] = None
         build["grid"]["table"] = TABLE_FILE
-        entries: dict[str, bytes] = {
-            f"resources/{TABLE_FILE}": table,
-            f"resources/{DATA_DIR}/{BUILD_FILE}": _json_bytes(build),
-        }
+        entries: dict[str, bytes] = {f"resources/{TABLE_FILE}": table}
+        if rolling:
+            build["rolling"]["file"] = None
+            build["rolling"]["table"] = ROLLING_TABLE_FILE
+            entries[f"resources/{ROLLING_TABLE_FILE}"] = rolling
+        entries[f"resources/{DATA_DIR}/{BUILD_FILE}"] = _json_bytes(build)
         entries |= {f"sources/{n}": b for n, b in sources.items()}
         entries["documentation/host_example.c"] = (NATIVE_DIR / "host_example.c").read_bytes()
         entries |= {f"binaries/{p}/{path.name}": path.read_bytes() for p, path in bins.items()}

@@ -73,6 +73,7 @@ try:
         tire_from_parameters,
         variables,
     )
+    from fmu_src.runtime.table_file import read_table_bytes
     from lookup.grid.reader import FrictionGrid
     from tire_brush import ccore
     from tire_brush.friction import GridFriction
@@ -91,6 +92,9 @@ DATA_DIR = "tirefric-data"
 CORE_DIR = "tirecore"
 #: Name of the build description inside :data:`DATA_DIR`.
 BUILD_FILE = "build.json"
+#: Name of the rolling-resistance table inside :data:`DATA_DIR` (when the build has one;
+#: format of :mod:`fmu_src.runtime.table_file`).
+ROLLING_FILE = "rolling.bin"
 #: Tag of the FMU state.
 STATE_FORMAT = "tirefric-brush-tire-fmu-state"
 #: Tag of a state blob that failed its checks (:meth:`BrushTireSlave._fmu_state_from_bytes`).
@@ -102,6 +106,29 @@ MAX_SUBSTEPS = 100_000
 _CAUSALITY = {"input": Fmi2Causality.input, "output": Fmi2Causality.output,
               "parameter": Fmi2Causality.parameter, "local": Fmi2Causality.local}
 _OUTPUT_NAMES = tuple(n for n, _, _ in OUTPUTS)
+
+
+def _read_rolling(data_dir: Path, spec: dict[str, Any]) -> Any:
+    """The build's rolling-resistance table (``spec`` from build.json) as the object
+    :meth:`tire_brush.transient.TransientBrushTire.set_rolling` takes, or None.
+
+    Raises
+    ------
+    ValueError
+        The file is missing, corrupt or not the one the build recorded.
+    """
+    import hashlib
+    from types import SimpleNamespace
+
+    if not spec.get("file"):
+        return None
+    path = data_dir / spec["file"]
+    data = path.read_bytes()
+    if "sha256:" + hashlib.sha256(data).hexdigest() != spec.get("sha256"):
+        raise ValueError(f"{path}: not the rolling-resistance table of this build")
+    t = read_table_bytes(data)
+    return SimpleNamespace(log10_v=t["log10_v"], T=t["T"], log10_Fz=t["log10_p"],
+                           f_r=t["values"][..., 0], tread_share=t["values"][..., 1])
 
 
 def read_build(resources: str | Path) -> dict[str, Any]:
@@ -148,6 +175,8 @@ class BrushTireSlave(Fmi2Slave):
                 setattr(self, key, build["model"][key])
         grid_path = Path(self.resources) / DATA_DIR / build["grid"]["file"]
         self._grid = FrictionGrid.load_npz(grid_path)
+        self._rolling = _read_rolling(Path(self.resources) / DATA_DIR,
+                                      build.get("rolling") or {})
         if self._grid.hash != build["grid"]["hash"]:
             raise ValueError(f"{grid_path}: grid hash {self._grid.hash} differs from the build's "
                              f"{build['grid']['hash']}")
@@ -279,6 +308,8 @@ class BrushTireSlave(Fmi2Slave):
                                          n_elements=n_elements,
                                          dt_internal=float(p["dt_internal"]),
                                          v_floor=float(p["v_floor"]))
+        if self._rolling is not None:
+            self._model.set_rolling(self._rolling)
         self._guard = InputGuard({k: float(p[k]) for k in LIMITS}, self._u_start)
         axes = p["axes"]
         if isinstance(axes, float) and axes.is_integer():

@@ -77,6 +77,7 @@ typedef struct {
     int nv, nT, np;
     double *axes, *values;
     tf_table *table;
+    tf_table *rr;              /* rolling-resistance table (NULL: none in this build) */
     tf_tire *tire;
     double built[TFN_NV];      /* values the tire was built from (parameters compared) */
     double *buf;               /* core state scratch */
@@ -168,23 +169,27 @@ static int resource_path(const char *loc, const char *file, char *out, size_t n)
     return 0;
 }
 
-static int load_table(comp *c, const char *path) {
+/* Read a table file (format above; the rolling-resistance table uses it too, with the axes
+ * log10 |V_r|, T_tread, log10 Fz and the values f_r, tread share, 0) into new arrays. */
+static int read_table(comp *c, const char *path, const char *what, int *n3, double **axes_out,
+                      double **values_out) {
     FILE *f = fopen(path, "rb");
     unsigned char *b = NULL;
     long size;
-    if (!f) { logf_(c, fmi2Error, "cannot open the friction table %s", path); return -1; }
+    *axes_out = *values_out = NULL;
+    if (!f) { logf_(c, fmi2Error, "cannot open the %s %s", what, path); return -1; }
     if (fseek(f, 0, SEEK_END) != 0 || (size = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0 ||
         !(b = malloc((size_t)size + 1)) || fread(b, 1, (size_t)size, f) != (size_t)size) {
         fclose(f);
         free(b);
-        logf_(c, fmi2Error, "cannot read the friction table %s", path);
+        logf_(c, fmi2Error, "cannot read the %s %s", what, path);
         return -1;
     }
     fclose(f);
     size_t n = (size_t)size;
     if (n < 40 || memcmp(b, TFN_TABLE_MAGIC, 16) != 0 || rd_u32(b + 16) != 1u) {
         free(b);
-        logf_(c, fmi2Error, "%s is not a tirefric friction table (version 1)", path);
+        logf_(c, fmi2Error, "%s is not a tirefric table file (version 1)", path);
         return -1;
     }
     uint32_t nv = rd_u32(b + 20), nT = rd_u32(b + 24), np = rd_u32(b + 28);
@@ -200,15 +205,45 @@ static int load_table(comp *c, const char *path) {
         logf_(c, fmi2Error, "%s: size or checksum mismatch (corrupt file)", path);
         return -1;
     }
-    c->axes = malloc(8 * nax);
-    c->values = malloc(8 * nval);
-    if (!c->axes || !c->values) { free(b); return -1; }
-    for (size_t i = 0; i < nax; i++) c->axes[i] = rd_f64(b + 32 + 8 * i);
-    for (size_t i = 0; i < nval; i++) c->values[i] = rd_f64(b + 32 + 8 * (nax + i));
-    c->nv = (int)nv;
-    c->nT = (int)nT;
-    c->np = (int)np;
+    double *axes = malloc(8 * nax), *values = malloc(8 * nval);
+    if (!axes || !values) { free(b); free(axes); free(values); return -1; }
+    for (size_t i = 0; i < nax; i++) axes[i] = rd_f64(b + 32 + 8 * i);
+    for (size_t i = 0; i < nval; i++) values[i] = rd_f64(b + 32 + 8 * (nax + i));
+    n3[0] = (int)nv;
+    n3[1] = (int)nT;
+    n3[2] = (int)np;
+    *axes_out = axes;
+    *values_out = values;
     free(b);
+    return 0;
+}
+
+static int load_table(comp *c, const char *path) {
+    int n3[3];
+    if (read_table(c, path, "friction table", n3, &c->axes, &c->values) != 0) return -1;
+    c->nv = n3[0];
+    c->nT = n3[1];
+    c->np = n3[2];
+    return 0;
+}
+
+/* The rolling-resistance table of the build (TFN_ROLLING_FILE), held by the instance. */
+static int load_rolling(comp *c, const char *loc) {
+    char path[4200];
+    int n3[3];
+    double *axes, *values;
+    if (!TFN_HAS_ROLLING) return 0;
+    if (resource_path(loc, TFN_ROLLING_FILE, path, sizeof path) != 0 ||
+        read_table(c, path, "rolling-resistance table", n3, &axes, &values) != 0)
+        return -1;
+    c->rr = tf_table_new(n3[0], n3[1], n3[2], axes, axes + n3[0], axes + n3[0] + n3[1],
+                         values, 0.0);
+    free(axes);
+    free(values);
+    if (!c->rr) {
+        logf_(c, fmi2Error, "the tire core refused the rolling-resistance table %s", path);
+        return -1;
+    }
     return 0;
 }
 
@@ -289,6 +324,7 @@ static int make_core(comp *c, const double *v, tf_table **tab, tf_tire **tire) {
         logf_(c, fmi2Error, "the tire core refused these tire parameters");
         return -1;
     }
+    tf_tire_set_rolling(*tire, c->rr);
     return 0;
 }
 
@@ -471,9 +507,10 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     c = calloc(1, sizeof *c);
     if (!c) return NULL;
     *c = tmp;
-    if (load_table(c, path) != 0) {
+    if (load_table(c, path) != 0 || load_rolling(c, resourceLocation) != 0) {
         free(c->axes);
         free(c->values);
+        if (c->rr) tf_table_free(c->rr);
         free(c);
         return NULL;
     }
@@ -487,6 +524,7 @@ void fmi2FreeInstance(fmi2Component comp_) {
     if (!c) return;
     if (c->tire) tf_tire_free(c->tire);
     if (c->table) tf_table_free(c->table);
+    if (c->rr) tf_table_free(c->rr);
     free(c->axes);
     free(c->values);
     free(c->buf);
