@@ -1,6 +1,7 @@
 """Benchmarks of the friction grids: query speed and build throughput.
 
-Run ``python benchmarks/bench_grid.py [--json] [--build-slices N] [--full-build]``.
+Run ``python benchmarks/bench_grid.py [--json] [--build-slices N] [--full-build]
+[--wet [--wet-repeats N] [--wet-slices N] [--workers N]]``.
 
 * query: median time of ``FrictionGrid.interpolate`` (mu_cold, mu_hot, dT_flash) for one
   batched call of 1e5 random points [us/point] and for one call of 100 points [us/call]
@@ -9,7 +10,14 @@ Run ``python benchmarks/bench_grid.py [--json] [--build-slices N] [--full-build]
 * build: grid nodes (cold and hot) per second per core of the real engine on a subset of the
   default spec's slip-speed slices (serial, so that one core is measured), and the implied
   time of the full default grid on this machine's cores; ``--full-build`` builds the whole
-  default grid with all cores into a temporary file and reports its wall time.
+  default grid with all cores into a temporary file and reports its wall time;
+* wet (``--wet``): the shipped wet-grip grid ``models/grids/r117_wet.toml`` built through
+  :func:`lookup.grid.build.build_grid` (the ``tirefric grid build`` path) with and without its
+  ``[wet]`` table, ``--wet-repeats`` times each (alternating), on ``--workers`` processes:
+  medians of the dry build's wall time, of the wet branch's (the ``wall_s`` the build stores
+  in the file's wet metadata: engine setup, sealed spectra, the wet solves) and of the whole
+  build with the branch, and the ratio wet branch / dry build (target <= 2). ``--wet-slices
+  N`` keeps N of the spec's slip-speed slices (spread over the axis) for a quicker run.
 """
 
 from __future__ import annotations
@@ -92,6 +100,41 @@ def bench_build(n_slices: int, full: bool) -> dict:
     return out
 
 
+def bench_wet(repeats: int, n_slices: int | None, workers: int) -> dict:
+    import dataclasses
+    import statistics
+    import time
+
+    from lookup.grid.build import build_grid
+    from lookup.grid.spec import load_spec
+    from lookup.grid.wet import load_wet
+
+    spec = load_spec("r117_wet")
+    if n_slices:
+        idx = np.unique(np.round(np.linspace(0, spec.v.size - 1, n_slices)).astype(int))
+        spec = spec.with_axes(v=spec.v[idx])
+    dry_spec = dataclasses.replace(spec, wet=None)
+    dry_s, wet_s, total_s = [], [], []
+    with tempfile.TemporaryDirectory() as d:
+        for k in range(repeats):
+            t0 = time.perf_counter()
+            build_grid(dry_spec, Path(d) / f"dry{k}.nc", workers=workers, progress=False)
+            dry_s.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            build_grid(spec, Path(d) / f"wet{k}.nc", workers=workers, progress=False)
+            total_s.append(time.perf_counter() - t0)
+            wet_s.append(float(load_wet(Path(d) / f"wet{k}.nc").meta["build"]["wall_s"]))
+    med = {n: statistics.median(x) for n, x in (("dry", dry_s), ("wet", wet_s),
+                                                 ("total", total_s))}
+    return {"spec": "r117_wet", "shape": list(spec.shape), "workers": workers,
+            "repeats": repeats, "dry_build_s": dry_s, "wet_branch_s": wet_s,
+            "build_with_wet_s": total_s, "median_dry_build_s": med["dry"],
+            "median_wet_branch_s": med["wet"], "median_build_with_wet_s": med["total"],
+            "ratio_wet_branch_to_dry": med["wet"] / med["dry"],
+            "ratio_build_with_wet_to_dry": med["total"] / med["dry"],
+            "target_ratio_wet_branch_to_dry": 2.0}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", action="store_true", help="print JSON")
@@ -99,7 +142,26 @@ def main() -> None:
                     help="slip-speed slices of the default spec for the throughput run")
     ap.add_argument("--no-build", action="store_true", help="query benchmark only")
     ap.add_argument("--full-build", action="store_true", help="also build the full default grid")
+    ap.add_argument("--wet", action="store_true",
+                    help="only the wet-branch build benchmark (r117_wet with and without [wet])")
+    ap.add_argument("--wet-repeats", type=int, default=3, help="builds of each kind")
+    ap.add_argument("--wet-slices", type=int, default=None,
+                    help="slip-speed slices of r117_wet to keep (default: all)")
+    ap.add_argument("--workers", type=int, default=2, help="processes of the wet benchmark")
     args = ap.parse_args()
+    if args.wet:
+        w = bench_wet(args.wet_repeats, args.wet_slices, args.workers)
+        if args.json:
+            print(json.dumps({"wet": w}, indent=2))
+            return
+        print(f"wet branch build, grid {w['spec']} {tuple(w['shape'])}, {w['workers']} "
+              f"workers, median of {w['repeats']}:")
+        print(f"  dry build               {w['median_dry_build_s']:7.2f} s")
+        print(f"  wet branch              {w['median_wet_branch_s']:7.2f} s   ratio "
+              f"{w['ratio_wet_branch_to_dry']:.2f} (target <= 2)")
+        print(f"  build with wet branch   {w['median_build_with_wet_s']:7.2f} s   ratio "
+              f"{w['ratio_build_with_wet_to_dry']:.2f}")
+        return
     res = {"query": bench_query()}
     if not args.no_build:
         res["build"] = bench_build(args.build_slices, args.full_build)
