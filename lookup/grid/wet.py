@@ -21,6 +21,10 @@ Variables, dimensions ``(water_depth, log10_v, T, log10_p)``:
 and ``w_dry`` with dimensions ``(water_depth, log10_t_drain, log10_v, T, log10_p)``: the dry
 share of the real contact after the drainage time (:mod:`lookup.wet.squeeze`, cold state).
 
+At depth node 0 (the dry road) all four are the grid's own ``mu_cold`` / ``mu_hot`` (copied
+from the file's dry tables when the branch is appended, :class:`PendingWetGrid`) and
+``w_dry`` = 1, so a read at zero depth is the dry read.
+
 Reading (:meth:`WetGrid.interpolate`): mu_wet = (1 - w) mu_w0 + w mu_w1. On the cold branch
 this is exact (the cold friction is linear in w). On the hot branch it is a documented
 reduction: the flash temperature depends on w through the adhesive heat, and the hot value
