@@ -178,6 +178,23 @@ qc_per_decade = 4
     assert np.all(at1["mu_wet_hot"] <= dry.variables["mu_hot"] * 1.05)
     with pytest.raises(InputError, match="water_depth"):
         wet.interpolate(1.0, 293.15, 3e5, -1e-3, 1e-3)
+    # the build took depth 0 from the file's dry tables; a branch built against the grid in
+    # memory is the same bit for bit, one that solves the dry engine again agrees to the
+    # float32 storage of the dry tables
+    from lookup.errors import GridError
+    from lookup.grid.wet_build import build_wet
+
+    spec = load_spec(spec_file)
+    same, _ = build_wet(spec, dry=g)
+    for n in wet.variables:
+        np.testing.assert_array_equal(same.variables[n], wet.variables[n])
+    again, _ = build_wet(spec, dry="compute")
+    for n in wet.variables:
+        np.testing.assert_allclose(again.variables[n], wet.variables[n], rtol=1e-6)
+    pending, _ = build_wet(spec)
+    with pytest.raises(GridError, match="log10_p"):
+        pending.complete({**g.axes, "log10_p": g.axes["log10_p"] + 0.1},
+                         g.variables["mu_cold"], g.variables["mu_hot"])
 
 
 def test_dry_grid_has_no_wet_branch():

@@ -102,6 +102,7 @@ class WetPerssonFriction(PerssonFriction):
         self.depth_index = 0
         self.last_w = np.zeros(0)
         self.last_squeeze: tuple | None = None
+        self._cold_state: tuple | None = None  # the last cold evaluation's squeeze-out inputs
 
     def at(self, depth_index: int, t_contact: float | None = None,
            adhesive_weight: float | None = None) -> WetPerssonFriction:
