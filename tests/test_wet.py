@@ -375,3 +375,39 @@ def test_bad_wet_grid_reads_name_the_field(r117):
         with pytest.raises(InputError) as e:
             w.interpolate(**args)
         assert e.value.field == field
+
+
+def test_sealing_lowers_the_viscoelastic_term_as_in_the_papers(r117):
+    # Persson, Tartaglino, Albohr & Tosatti (Nat. Mater. 3 (2004) 882; Phys. Rev. B 71 (2005)
+    # 035428): the sealed water lowers the *viscoelastic* friction by 20-30 % at low speed.
+    # Measured here (20 C, 0.2-0.3 MPa, 0.01-1 m/s): 0.69-0.71 with the shipped settings; the
+    # construction's stated uncertainty (percolation threshold 0.35-0.5: 0.61-0.75,
+    # docs/physics.md sec. 7a) sets the band 0.6-0.8. With the adhesive term off (soapy water)
+    # the total is that ratio; with water the shipped compound's low-speed friction is 98 %
+    # adhesive and squeezed dry, so the total stays within 1 % of dry at 0.01 m/s.
+    dry, _, _ = r117
+    v = np.array([0.01, 0.1, 1.0])
+    soap = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3),
+                              lubricant=Lubricant("soapy_water")).at(1)
+    wet = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3)).at(1)
+    for p in (2e5, 3e5):
+        d = dry.cold(v, 293.15, p)
+        s = soap.cold(v, 293.15, p)
+        ratio = s.mu / d.mu_visc
+        assert np.all((ratio > 0.6) & (ratio < 0.8)), (p, ratio)
+        w = wet.cold(v, 293.15, p)
+        np.testing.assert_allclose(w.mu_visc, s.mu_visc, rtol=1e-12)
+        assert d.mu_cont[0] / d.mu[0] > 0.95 and w.mu[0] / d.mu[0] > 0.99, (p, w.mu, d.mu)
+
+
+def test_temperature_signs_of_the_two_terms(r117):
+    # why dBFC/dT > 0 on the shipped compound (docs/physics.md sec. 7a): at an ABS slip speed
+    # (1 m/s, 0.2 MPa, wet, cold) the viscoelastic term falls with temperature (the sign of the
+    # regulation's correction) while the adhesive term, eq. (21) shifted with the bulk a_T
+    # towards the slip speed and multiplied by a growing real contact, rises and dominates
+    dry, _, _ = r117
+    wet = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3)).at(1)
+    r = wet.cold(1.0, np.array([278.15, 293.15, 308.15]), 2e5)
+    assert np.all(np.diff(r.mu_visc) < 0), r.mu_visc
+    assert np.all(np.diff(r.mu_cont) > 0), r.mu_cont
+    assert np.all(np.diff(r.mu) > 0), r.mu
