@@ -178,6 +178,23 @@ qc_per_decade = 4
     assert np.all(at1["mu_wet_hot"] <= dry.variables["mu_hot"] * 1.05)
     with pytest.raises(InputError, match="water_depth"):
         wet.interpolate(1.0, 293.15, 3e5, -1e-3, 1e-3)
+    # the build took depth 0 from the file's dry tables; a branch built against the grid in
+    # memory is the same bit for bit, one that solves the dry engine again agrees to the
+    # float32 storage of the dry tables
+    from lookup.errors import GridError
+    from lookup.grid.wet_build import build_wet
+
+    spec = load_spec(spec_file)
+    same, _ = build_wet(spec, dry=g)
+    for n in wet.variables:
+        np.testing.assert_array_equal(same.variables[n], wet.variables[n])
+    again, _ = build_wet(spec, dry="compute")
+    for n in wet.variables:
+        np.testing.assert_allclose(again.variables[n], wet.variables[n], rtol=1e-6)
+    pending, _ = build_wet(spec)
+    with pytest.raises(GridError, match="log10_p"):
+        pending.complete({**g.axes, "log10_p": g.axes["log10_p"] + 0.1},
+                         g.variables["mu_cold"], g.variables["mu_hot"])
 
 
 def test_dry_grid_has_no_wet_branch():
@@ -212,3 +229,185 @@ def test_wet_grip_bookkeeping():
         assert label_class(G) == cls, G
     with pytest.raises(InputError):
         braking_force_coefficient(20.0, 30.0, 10.0)
+
+
+# -- the shipped wet-grip road and its grid (models/surfaces/r117_wet.toml, models/grids) --
+
+
+@pytest.fixture(scope="module")
+def r117():
+    from lookup.grid import load_grid
+    from lookup.grid.wet import load_wet
+
+    c, s = load_compound("summer"), load_surface("r117_wet")
+    return PerssonFriction(c, s), load_grid("r117_wet"), load_wet("r117_wet")
+
+
+def test_sealed_spectrum_below_dry_on_the_wet_grip_road(r117):
+    # the shipped road at the shipped settings (512 px, 2 maps), every sealing wavenumber
+    # row: C_wet <= C at every q within the scatter of the periodogram ratio (module
+    # docstring of lookup.wet.sealing: bins near q0 hold few modes, and the shores' kinks add
+    # power): the same 5 % as on the asphalt
+    dry, _, _ = r117
+    ss = SealedSpectrum(dry.surface.psd, dry.q, [0.0, 1e-3])
+    assert np.all(ss.r[0] == 1.0)  # no water, nothing filled
+    assert ss.r[1].max() <= 1.05, ss.r[1].max()
+    # rows computed on demand equal the complete table (the cache does not change values)
+    lazy = SealedSpectrum(dry.surface.psd, dry.q, [0.0, 1e-3])
+    q_c = np.array([1e3, 4.5e3])
+    np.testing.assert_array_equal(lazy.ratio(q_c, 1), ss.ratio(q_c, 1))
+
+
+def test_wet_grid_at_or_below_dry_everywhere(r117):
+    # every (v, T, p) node of the shipped grid at 1 mm of water, both dry-share end points
+    # and every drainage time: the cold wet friction is at most the dry one. The dry table is
+    # stored in float32 (relative rounding 6e-8): 1e-6.
+    _, g, w = r117
+    i = int(np.flatnonzero(w.axes["water_depth"] > 0)[0])
+    mu_dry = g.variables["mu_cold"]
+    for n in ("mu_wet_cold_w0", "mu_wet_cold_w1"):
+        assert np.all(w.variables[n][i] <= mu_dry * (1 + 1e-6)), n
+    V, T, P = np.meshgrid(10.0 ** g.axes["log10_v"], g.axes["T"], 10.0 ** g.axes["log10_p"],
+                          indexing="ij")
+    for t in 10.0 ** w.axes["log10_t_drain"]:
+        m = w.interpolate(V, T, P, w.axes["water_depth"][i], t)
+        assert np.all(m["mu_wet_cold"] <= mu_dry * (1 + 1e-6)), t
+    # the hot branch is not bounded by dry node by node (test_wet_grid_branch: the sealed
+    # spectrum makes less hysteresis heat, and the adhesive law is read at another flash
+    # temperature); measured on this grid: at most 5 % above, and below dry on average
+    hot = w.variables["mu_wet_hot_w1"][i] / g.variables["mu_hot"]
+    assert hot.max() <= 1.05 and hot.mean() < 1.0, (hot.max(), hot.mean())
+
+
+def test_wet_grid_depth_zero_is_the_dry_grid(r117):
+    # depth node 0 holds the grid's own dry tables (no second dry solve), bit for bit, and
+    # reading at zero depth gives the dry friction at any drainage time
+    _, g, w = r117
+    assert w.axes["water_depth"][0] == 0.0
+    for b in ("cold", "hot"):
+        for e in ("w0", "w1"):
+            np.testing.assert_array_equal(w.variables[f"mu_wet_{b}_{e}"][0],
+                                          g.variables[f"mu_{b}"])
+    assert np.all(w.variables["w_dry"][0] == 1.0)
+    V, T, P = np.meshgrid(10.0 ** g.axes["log10_v"], g.axes["T"], 10.0 ** g.axes["log10_p"],
+                          indexing="ij")
+    for t in (1e-4, 1e-2, 1.0):
+        m = w.interpolate(V, T, P, 0.0, t)
+        np.testing.assert_allclose(m["mu_wet_cold"], g.variables["mu_cold"], rtol=1e-12)
+        np.testing.assert_allclose(m["mu_wet_hot"], g.variables["mu_hot"], rtol=1e-12)
+
+
+def test_adhesive_weight_limits_in_speed(r117):
+    # sliding block: the squeeze-out time is the macro-contact time D / v. At 0.1 mm/s
+    # (t = 10 s) the water has left the asperity contacts (w -> 1: the last S node, 0.9999);
+    # at high speed there is no time (w -> 0). On this road the smooth-film drainage of a
+    # 1 mm macro contact (Stefan's law, lookup.wet.squeeze) is complete within ~0.1 ms (w =
+    # 0.38-0.43 at 1 us, 0.78-0.88 at 10 us; 20 C, 0.3 MPa), so w leaves 1 only at speeds beyond a
+    # tire's (measured at 80 C, 0.3 MPa: 0.94 at 1e2, 0.56 at 1e3, 0.005 at 1e5 m/s): the
+    # limit of the model is tested here, not a physical speed.
+    dry, _, _ = r117
+    wet = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3), sealing=SMALL)
+    v = np.geomspace(1e-4, 1e6, 11)
+    wet.at(1).cold(v, 353.15, 3e5)
+    w = wet.last_w
+    assert w[0] >= 0.9999 - 1e-12 and w[-1] < 0.01, w
+    assert np.all(np.diff(w) <= 1e-12), w
+    # the grid's dry share: 1 at the longest drainage time, falling towards the shortest
+    _, _, g = r117
+    wd = g.variables["w_dry"][1]
+    assert np.all(np.diff(wd, axis=0) >= -1e-12), "w_dry must grow with the drainage time"
+    assert wd[-1].min() > 0.99
+
+
+def test_wet_end_points_equal_the_forced_weights():
+    # end_points (the grid's wet node) gives the numbers of cold_and_hot with the dry share
+    # forced to 0 and 1 and of dry_shares after a cold evaluation, bit for bit
+    c, s = load_compound("summer"), load_surface("asphalt")
+    wet = WetPerssonFriction(c, s, depths=(0.0, 1e-3), sealing=SMALL)
+    v, T, p = 1.0, np.array([[283.15], [303.15]]), np.array([[2e5, 5e5]])
+    t = np.array([1e-6, 1e-3])
+    e = wet.at(1).end_points(v, T, p, t)
+    for wgt, key in ((0.0, "w0"), (1.0, "w1")):
+        cc, hh = wet.at(1, adhesive_weight=wgt).cold_and_hot(v, T, p)
+        np.testing.assert_array_equal(e[f"mu_wet_cold_{key}"], cc.mu)
+        np.testing.assert_array_equal(e[f"mu_wet_hot_{key}"], hh.mu)
+    wet.at(1, t_contact=1.0).cold(v, T, p)
+    np.testing.assert_array_equal(e["w_dry"].reshape(2, -1), wet.dry_shares(t))
+    with pytest.raises(InputError, match="depth"):
+        wet.at(0).end_points(v, T, p, t)
+
+
+@pytest.mark.parametrize("wet_table,field", [
+    ('water_depth = ["0 mm", "-1 mm"]', "water_depth"),
+    ('water_depth = ["0 mm", "1 mm"]\nlubricant = "oil"', "wet.lubricant"),
+    ('water_depth = ["0 mm", "1 mm"]\nlubricant = "custom"\neta = 0.0', "wet.eta"),
+    ('water_depth = ["0 mm", "1 mm"]\nlubricant = "custom"\neta = -1e-3', "wet.eta"),
+])
+def test_bad_wet_grid_spec_names_the_field(tmp_path, wet_table, field):
+    from lookup.grid.spec import load_spec
+
+    f = tmp_path / "w.toml"
+    f.write_text(f"""name = "w"
+compound = "summer"
+surface = "asphalt"
+[axes.v]
+values = [1e-3, 1.0]
+[axes.T]
+values = [283.15, 303.15]
+[axes.p]
+values = [2e5, 4e5]
+[wet]
+{wet_table}
+[wet.t_drain]
+values = ["1e-9 s", "1e-3 s"]
+""")
+    with pytest.raises(InputError) as e:
+        load_spec(f)
+    assert field in str(e.value), str(e.value)
+
+
+def test_bad_wet_grid_reads_name_the_field(r117):
+    _, _, w = r117
+    for kw, field in (({"water_depth": -1e-3}, "water_depth"), ({"water_depth": np.nan},
+                                                                 "water_depth"),
+                      ({"t_drain": 0.0}, "t_drain"), ({"t_drain": -1.0}, "t_drain")):
+        args = {"v": 1.0, "T": 293.15, "p": 3e5, "water_depth": 1e-3, "t_drain": 1e-2, **kw}
+        with pytest.raises(InputError) as e:
+            w.interpolate(**args)
+        assert e.value.field == field
+
+
+def test_sealing_lowers_the_viscoelastic_term_as_in_the_papers(r117):
+    # Persson, Tartaglino, Albohr & Tosatti (Nat. Mater. 3 (2004) 882; Phys. Rev. B 71 (2005)
+    # 035428): the sealed water lowers the *viscoelastic* friction by 20-30 % at low speed.
+    # Measured here (20 C, 0.2-0.3 MPa, 0.01-1 m/s): 0.69-0.71 with the shipped settings; the
+    # construction's stated uncertainty (percolation threshold 0.35-0.5: 0.61-0.75,
+    # docs/physics.md sec. 7a) sets the band 0.6-0.8. With the adhesive term off (soapy water)
+    # the total is that ratio; with water the shipped compound's low-speed friction is 98 %
+    # adhesive and squeezed dry, so the total stays within 1 % of dry at 0.01 m/s.
+    dry, _, _ = r117
+    v = np.array([0.01, 0.1, 1.0])
+    soap = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3),
+                              lubricant=Lubricant("soapy_water")).at(1)
+    wet = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3)).at(1)
+    for p in (2e5, 3e5):
+        d = dry.cold(v, 293.15, p)
+        s = soap.cold(v, 293.15, p)
+        ratio = s.mu / d.mu_visc
+        assert np.all((ratio > 0.6) & (ratio < 0.8)), (p, ratio)
+        w = wet.cold(v, 293.15, p)
+        np.testing.assert_allclose(w.mu_visc, s.mu_visc, rtol=1e-12)
+        assert d.mu_cont[0] / d.mu[0] > 0.95 and w.mu[0] / d.mu[0] > 0.99, (p, w.mu, d.mu)
+
+
+def test_temperature_signs_of_the_two_terms(r117):
+    # why dBFC/dT > 0 on the shipped compound (docs/physics.md sec. 7a): at an ABS slip speed
+    # (1 m/s, 0.2 MPa, wet, cold) the viscoelastic term falls with temperature (the sign of the
+    # regulation's correction) while the adhesive term, eq. (21) shifted with the bulk a_T
+    # towards the slip speed and multiplied by a growing real contact, rises and dominates
+    dry, _, _ = r117
+    wet = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3)).at(1)
+    r = wet.cold(1.0, np.array([278.15, 293.15, 308.15]), 2e5)
+    assert np.all(np.diff(r.mu_visc) < 0), r.mu_visc
+    assert np.all(np.diff(r.mu_cont) > 0), r.mu_cont
+    assert np.all(np.diff(r.mu) > 0), r.mu

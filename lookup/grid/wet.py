@@ -21,6 +21,10 @@ Variables, dimensions ``(water_depth, log10_v, T, log10_p)``:
 and ``w_dry`` with dimensions ``(water_depth, log10_t_drain, log10_v, T, log10_p)``: the dry
 share of the real contact after the drainage time (:mod:`lookup.wet.squeeze`, cold state).
 
+At depth node 0 (the dry road) all four are the grid's own ``mu_cold`` / ``mu_hot`` (copied
+from the file's dry tables when the branch is appended, :class:`PendingWetGrid`) and
+``w_dry`` = 1, so a read at zero depth is the dry read.
+
 Reading (:meth:`WetGrid.interpolate`): mu_wet = (1 - w) mu_w0 + w mu_w1. On the cold branch
 this is exact (the cold friction is linear in w). On the hot branch it is a documented
 reduction: the flash temperature depends on w through the adhesive heat, and the hot value
@@ -185,10 +189,57 @@ class WetGrid:
         return out
 
 
-def save_wet(path: Any, wet: WetGrid) -> None:
-    """Append the wet branch to an existing NetCDF grid file (its dry content unchanged)."""
+class PendingWetGrid:
+    """A wet branch whose depth-0 (dry road) tables are still to be taken from its grid file.
+
+    The wet engine at water depth 0 is the dry engine, so the depth-0 tables of the wet
+    variables are the grid's own ``mu_cold`` and ``mu_hot`` (and w_dry = 1).
+    :func:`lookup.grid.wet_build.build_wet` leaves them out (NaN) when the dry tables are
+    already in the file the branch is appended to, and :func:`save_wet` fills them from it
+    (:meth:`complete`). Same arguments as :class:`WetGrid`.
+    """
+
+    def __init__(self, dry_axes: Mapping[str, Any], wet_axes: Mapping[str, Any],
+                 variables: Mapping[str, Any], meta: Mapping[str, Any] | None = None,
+                 *, source: str = "grid") -> None:
+        self.dry_axes = {n: np.asarray(dry_axes[n], float) for n in ("log10_v", "T",
+                                                                      "log10_p")}
+        self.wet_axes = {n: np.asarray(wet_axes[n], float) for n in WET_AXES}
+        self.variables = {n: np.array(variables[n], float) for n in WET_VARIABLES}
+        self.meta = dict(meta or {})
+        self.source = source
+
+    def complete(self, dry_axes: Mapping[str, Any], mu_cold: Any, mu_hot: Any) -> WetGrid:
+        """The :class:`WetGrid` with depth 0 set to the dry tables ``mu_cold``, ``mu_hot``
+        (nv, nT, np) of a grid with the axes ``dry_axes`` (checked against this branch's)."""
+        for n, a in self.dry_axes.items():
+            b = np.asarray(dry_axes[n], float)
+            if a.shape != b.shape or not np.allclose(a, b, rtol=0, atol=1e-9):
+                raise GridError(f"{self.source}: the grid file's '{n}' nodes differ from the "
+                                f"wet branch's")
+        var = {n: a.copy() for n, a in self.variables.items()}
+        for n in WET_VARIABLES[:4]:
+            var[n][0] = np.asarray(mu_cold if "cold" in n else mu_hot, float)
+        var["w_dry"][0] = 1.0
+        meta = {k: v for k, v in self.meta.items() if k != "hash"}
+        return WetGrid(self.dry_axes, self.wet_axes, var, meta, source=self.source)
+
+
+def save_wet(path: Any, wet: WetGrid | PendingWetGrid) -> None:
+    """Append the wet branch to an existing NetCDF grid file (its dry content unchanged).
+
+    A :class:`PendingWetGrid` is completed first with the file's dry ``mu_cold`` and
+    ``mu_hot`` (as stored, i.e. as the dry reader returns them).
+    """
     import h5netcdf
 
+    if isinstance(wet, PendingWetGrid):
+        with h5netcdf.File(path, "r") as f:
+            ax = {n: np.asarray(f.variables[n][...], float) for n in ("log10_v", "T",
+                                                                      "log10_p")}
+            mc = np.asarray(f.variables["mu_cold"][...], float)
+            mh = np.asarray(f.variables["mu_hot"][...], float)
+        wet = wet.complete(ax, mc, mh)
     with h5netcdf.File(path, "a") as f:
         for n in WET_AXES:
             f.dimensions[n] = wet.axes[n].size

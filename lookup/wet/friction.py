@@ -102,6 +102,7 @@ class WetPerssonFriction(PerssonFriction):
         self.depth_index = 0
         self.last_w = np.zeros(0)
         self.last_squeeze: tuple | None = None
+        self._cold_state: tuple | None = None  # the last cold evaluation's squeeze-out inputs
 
     def at(self, depth_index: int, t_contact: float | None = None,
            adhesive_weight: float | None = None) -> WetPerssonFriction:
@@ -176,6 +177,8 @@ class WetPerssonFriction(PerssonFriction):
         i = self.i_m
         f = (np.log(self.q_m) - lq[i - 1]) / self.dl[i - 1]
         P_m = P[:, i - 1] + f * (P[:, i] - P[:, i - 1])
+        if dT is None:  # the cold state's squeeze-out inputs (end_points reuses them)
+            self._cold_state = (v, T0, sigma0, F_wet, c_area * G, P_m)
         w = self._weight(v, T0, sigma0, F_wet, c_area * G, P_m)
         self.last_w = w
         # real (rubber-road) contact: the dry one (module docstring, item 1); P_dry[:, -1] is
@@ -203,6 +206,53 @@ class WetPerssonFriction(PerssonFriction):
         R = 0.5 * self.D if self.drainage_radius is None else self.drainage_radius
         self.last_squeeze = (self.lubricant.viscosity(T0), R, sigma0, P_m, u)
         return dry_share(t, *self.last_squeeze)
+
+    def end_points(self, v: Any, T0: Any, sigma0: Any, t_drain: Any) -> dict[str, np.ndarray]:
+        """Everything the wet branch of a grid needs at the selected depth node (> 0).
+
+        Cold and hot friction with the dry share forced to w = 0 and w = 1, and the dry share
+        w after each drainage time ``t_drain`` [s] (cold state, lubricant at T0), for points
+        v [m/s], T0 [K], sigma0 [Pa] (arrays broadcast; results have their shape, ``w_dry``
+        has ``(len(t_drain),) + shape``).
+
+        The same numbers as :meth:`cold_and_hot` with ``adhesive_weight`` 0 and 1 and as
+        :meth:`dry_shares` after a cold evaluation, with less work: the cold friction is
+        linear in w and everything else in it (mu_visc, the sealed G(q), P(q_m), the area)
+        does not depend on w, so one cold evaluation gives both end points (mu_cont = 0 at
+        w = 0 exactly) and starts both hot solves, and its G(q) and P(q_m) are the
+        squeeze-out's inputs (:mod:`lookup.wet.squeeze`).
+        """
+        if self.depth == 0.0:
+            raise InputError("end points are for a wet depth node (> 0); depth 0 is the dry "
+                             "engine", field="depth_index", value=self.depth_index)
+        self._require_hot()
+        shape, v, T0, sigma0 = self._prepare(v, T0, sigma0)
+        t_drain = np.atleast_1d(np.asarray(t_drain, float))
+        saved = (self.adhesive_weight, self.t_contact)
+        try:
+            self.adhesive_weight = 1.0
+            c1 = self._evaluate(v, T0, sigma0, None)
+            state = self._cold_state
+            c0 = {**c1, "mu_cont": np.zeros_like(c1["mu_cont"])}
+            h1 = self._hot_result(self._fixed_point(v, T0, sigma0, cold=c1), shape)
+            self.adhesive_weight = 0.0
+            h0 = self._hot_result(self._fixed_point(v, T0, sigma0, cold=c0), shape)
+        finally:
+            self.adhesive_weight, self.t_contact = saved
+        if self.lubricant.adhesion:
+            _, T_, s_, F_, G_, Pm_ = state
+            u = mean_separation(S_NODES, self.q, F_, G_, self.i_m, s_, Pm_,
+                                self.settings.gamma)
+            R = 0.5 * self.D if self.drainage_radius is None else self.drainage_radius
+            args = (self.lubricant.viscosity(T_), R, s_, Pm_, u)
+            self.last_squeeze = args
+            w = np.stack([dry_share(np.full(v.size, t), *args) for t in t_drain])
+        else:  # soapy water: no adhesive term at any time
+            w = np.zeros((t_drain.size, v.size))
+        return {"mu_wet_cold_w0": c1["mu_visc"].reshape(shape),
+                "mu_wet_cold_w1": (c1["mu_visc"] + c1["mu_cont"]).reshape(shape),
+                "mu_wet_hot_w0": h0.mu, "mu_wet_hot_w1": h1.mu,
+                "w_dry": w.reshape((t_drain.size, *shape))}
 
     def dry_shares(self, t_contact: np.ndarray) -> np.ndarray:
         """Dry share w at other available times [s] for the points of the last squeeze-out

@@ -25,9 +25,11 @@ What this module does (and where it differs):
    falls with q, so the pools are those of the largest magnification that still percolates,
    q_c with P(q_c) = p_c (q_c = q1 when P(q1) >= p_c). The q_c of a friction point is taken
    from the *dry* contact at that point (no iteration with the sealed spectrum, which raises
-   P slightly). If P has fallen below p_c already at the first resolved magnification above q0
-   (the engine's second q node), the contact never percolates over resolved roughness: no
-   pool is sealed and the wet spectrum is the dry one.
+   P: on the wet-grip road at 20 C, 0.3 MPa one iteration moves q_c from 4.8e3 to 1.5e4 1/m
+   and lowers the viscoelastic wet/dry ratio from 0.69 to 0.67, docs/physics.md sec. 7a; the
+   dry q_c is the smaller smoothing). If P has fallen below p_c already at the first
+   resolved magnification above q0 (the engine's second q node), the contact never
+   percolates over resolved roughness: no pool is sealed and the wet spectrum is the dry one.
 3. **Which regions are pools.** The rubber at magnification q_c is taken to touch the
    highest fraction p_c of the map low-pass filtered to |q| <= q_c (the map seen at that
    magnification; a truncation model of the contact geometry, where the papers use their
@@ -199,6 +201,12 @@ class SealedMap:
         The friction engine's wavenumber nodes [1/m] (bins are centred on them).
     periodic : bool
         Synthetic periodic map (True) or measured map (False: cavities at the edge are open).
+
+    Notes
+    -----
+    The map is real, so its transform is kept on the half plane (``numpy.fft.rfft2``); the
+    binned periodogram counts every mode of the dropped half through its conjugate (weight 2
+    for the columns that have one), which is the full-plane sum.
     """
 
     h: np.ndarray
@@ -211,26 +219,42 @@ class SealedMap:
         ny, nx = self.h.shape
         if not self.periodic:
             self.h = self.h - self.h.mean()
-        kx = 2.0 * math.pi * np.fft.fftfreq(nx, d=self.dx)
+        kx = 2.0 * math.pi * np.fft.rfftfreq(nx, d=self.dx)
         ky = 2.0 * math.pi * np.fft.fftfreq(ny, d=self.dy)
         self.qabs = np.hypot(kx[None, :], ky[:, None])
         self.q_nyquist = math.pi / max(self.dx, self.dy)
-        self.H = np.fft.fft2(self.h)
+        self.H = np.fft.rfft2(self.h)
+        # conjugate pairs: columns 1 .. ceil(nx/2)-1 stand for two modes each
+        wcol = np.full(kx.size, 2.0)
+        wcol[0] = 1.0
+        if nx % 2 == 0:
+            wcol[-1] = 1.0
+        self.mode_weight = np.broadcast_to(wcol[None, :], self.qabs.shape).ravel()
         edges = _bin_edges(self.q_nodes)
         b = np.searchsorted(edges, self.qabs.ravel(), side="right") - 1
         inside = (b >= 0) & (b < self.q_nodes.size) & (self.qabs.ravel() > 0) & (
             self.qabs.ravel() <= self.q_nyquist)
         self.bin = np.where(inside, b, self.q_nodes.size)
-        self.count = np.bincount(self.bin, minlength=self.q_nodes.size + 1)[:-1]
+        self.count = np.bincount(self.bin, weights=self.mode_weight,
+                                 minlength=self.q_nodes.size + 1)[:-1]
         self.dry = self._binned(self.H)
+        self._h_sorted: np.ndarray | None = None
+        self._z_w: dict[float, float] = {}
 
     def _binned(self, F: np.ndarray) -> np.ndarray:
-        p = np.abs(F.ravel()) ** 2
+        p = np.abs(F.ravel()) ** 2 * self.mode_weight
         return np.bincount(self.bin, weights=p, minlength=self.q_nodes.size + 1)[:-1]
+
+    def water_level(self, depth: float) -> float:
+        """:func:`free_water_level` of this map (cached per depth)."""
+        z = self._z_w.get(depth)
+        if z is None:
+            z = self._z_w[depth] = free_water_level(self.h, depth)
+        return z
 
     def pools(self, q_c: float, p_c: float) -> tuple[np.ndarray, np.ndarray]:
         """Sealed-pool labels (0 = not a sealed pool) and each pool's spill level [m]."""
-        h_c = np.fft.ifft2(self.H * (self.qabs <= q_c)).real
+        h_c = np.fft.irfft2(self.H * (self.qabs <= q_c), s=self.h.shape)
         if np.ptp(h_c) <= 1e-12 * max(np.ptp(self.h), 1e-300):
             return np.zeros(self.h.shape, int), np.zeros(1)
         z = np.quantile(h_c, 1.0 - p_c)
@@ -247,13 +271,13 @@ class SealedMap:
     def ratio(self, lab: np.ndarray, spill: np.ndarray, depth: float
               ) -> tuple[np.ndarray, float]:
         """C_wet/C per bin (NaN for empty bins) and the area fraction under pool water."""
-        z_w = free_water_level(self.h, depth)
+        z_w = self.water_level(depth)
         level = np.minimum(spill, z_w)[lab]
         wet = (lab > 0) & (self.h < level)
         if not wet.any():
             return np.where(self.count > 0, 1.0, np.nan), 0.0
         hw = np.where(wet, level, self.h)
-        Cw = self._binned(np.fft.fft2(hw))
+        Cw = self._binned(np.fft.rfft2(hw))
         with np.errstate(invalid="ignore", divide="ignore"):
             r = np.where((self.count > 0) & (self.dry > 0), Cw / self.dry, np.nan)
         return r, float(wet.mean())
@@ -261,6 +285,12 @@ class SealedMap:
 
 class SealedSpectrum:
     """The table r(q; q_c, d) = C_wet(q)/C(q) on the engine's q nodes (module docstring).
+
+    The rows of the table (one per sealing wavenumber node q_c) are computed when first
+    needed and kept (:meth:`ratio` asks for the two nodes around each q_c it is given; the
+    attributes :attr:`r` and :attr:`water_fraction` complete the table). A friction point
+    seals at one q_c, and over a grid the q_c met span a few nodes, so most rows are never
+    computed; the values of a row do not depend on which others exist.
 
     Parameters
     ----------
@@ -297,36 +327,58 @@ class SealedSpectrum:
                 h = height_map_from_psd(s.n, L, psd, q1, rng=np.random.default_rng(s.seed + k))
                 maps.append(SealedMap(h, L / s.n, L / s.n, self.q, periodic=True))
             self.source = "synthetic"
+        self.maps = maps
         self.q_map = 0.5 * min(m.q_nyquist for m in maps)
-        # r[i_d, i_qc, i_q] and the pool-water area fraction f[i_d, i_qc]
+        self.maps_used = len(maps)
+        # r[i_d, i_qc, i_q] and the pool-water area fraction f[i_d, i_qc], filled per q_c row
         nd, nc, nq = self.depths.size, self.q_c.size, self.q.size
-        num = np.zeros((nd, nc, nq))
-        den = np.zeros((nd, nc, nq))
-        f = np.zeros((nd, nc))
-        for m in maps:
-            for j, qc in enumerate(self.q_c):
-                lab, spill = m.pools(qc, s.p_c)
+        self._r = np.full((nd, nc, nq), np.nan)
+        self._f = np.zeros((nd, nc))
+        self._done = np.zeros(nc, bool)
+
+    def _fill(self, rows: np.ndarray) -> None:
+        """Compute the table rows ``rows`` (indices into :attr:`q_c`) not computed yet."""
+        for j in np.unique(np.asarray(rows, int)):
+            if self._done[j]:
+                continue
+            nd, nq = self.depths.size, self.q.size
+            num = np.zeros((nd, nq))
+            den = np.zeros((nd, nq))
+            f = np.zeros(nd)
+            for m in self.maps:
+                lab, spill = m.pools(float(self.q_c[j]), self.settings.p_c)
                 for i, d in enumerate(self.depths):
                     r, fw = m.ratio(lab, spill, float(d))
                     ok = np.isfinite(r)
-                    num[i, j, ok] += r[ok] * m.dry[ok]
-                    den[i, j, ok] += m.dry[ok]
-                    f[i, j] += fw / len(maps)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            r = num / den
-        # bins above the trusted band and empty bins (too few modes): the neighbouring value
-        # (held, not extrapolated)
-        r[:, :, self.q > self.q_map] = np.nan
-        for i in range(nd):
-            for j in range(nc):
-                row = r[i, j]
+                    num[i, ok] += r[ok] * m.dry[ok]
+                    den[i, ok] += m.dry[ok]
+                    f[i] += fw / len(self.maps)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                r = num / den
+            # bins above the trusted band and empty bins (too few modes): the neighbouring
+            # value (held, not extrapolated)
+            r[:, self.q > self.q_map] = np.nan
+            for i in range(nd):
+                row = r[i]
                 bad = ~np.isfinite(row)
                 if bad.any():
                     good = np.flatnonzero(~bad)
                     row[bad] = np.interp(np.flatnonzero(bad), good, row[good])
-        self.r = r
-        self.water_fraction = f
-        self.maps_used = len(maps)
+            self._r[:, j] = r
+            self._f[:, j] = f
+            self._done[j] = True
+
+    @property
+    def r(self) -> np.ndarray:
+        """The whole table r[i_depth, i_qc, i_q] (every row computed)."""
+        self._fill(np.arange(self.q_c.size))
+        return self._r
+
+    @property
+    def water_fraction(self) -> np.ndarray:
+        """Area fraction under pool water f[i_depth, i_qc] (every row computed)."""
+        self._fill(np.arange(self.q_c.size))
+        return self._f
 
     def ratio(self, q_c: np.ndarray, i_depth: int) -> np.ndarray:
         """r(q) for sealing wavenumbers ``q_c`` (B,) at depth node ``i_depth``: (B, nq).
@@ -337,13 +389,19 @@ class SealedSpectrum:
         q_c = np.asarray(q_c, float)
         x = np.log(np.clip(q_c, self.q_c[0], self.q_c[-1]))
         lq = np.log(self.q_c)
+        sealed = q_c >= self.q_c[0]
         if lq.size == 1:
-            out = np.broadcast_to(self.r[i_depth, 0], (q_c.size, self.q.size)).copy()
+            self._fill(np.zeros(1, int))
+            out = np.broadcast_to(self._r[i_depth, 0], (q_c.size, self.q.size)).copy()
         else:
             u = np.clip(np.searchsorted(lq, x) - 1, 0, lq.size - 2)
             t = ((x - lq[u]) / (lq[u + 1] - lq[u]))[:, None]
-            out = (1 - t) * self.r[i_depth, u] + t * self.r[i_depth, u + 1]
-        return np.where((q_c < self.q_c[0])[:, None], 1.0, out)
+            if sealed.any():
+                self._fill(np.concatenate([u[sealed], u[sealed] + 1]))
+            # rows never needed (unsealed points) stay NaN; the where() below discards them
+            with np.errstate(invalid="ignore"):
+                out = (1 - t) * self._r[i_depth, u] + t * self._r[i_depth, u + 1]
+        return np.where(sealed[:, None], out, 1.0)
 
     def describe(self) -> dict:
         return {"settings": asdict(self.settings), "source": self.source,
