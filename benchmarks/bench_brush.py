@@ -74,7 +74,7 @@ def run(grid: str | None = None) -> dict:
     tire = load_tire("passenger")
     table = BranchTable.from_model(GridFriction(load_grid(grid or "default")))
     vx, kappa, Fz, T = CASE
-    u = [vx, 0.0, vx * (1.0 + kappa) / tire.R_e, Fz, T, 1.0, 0.0]
+    u = [vx, 0.0, vx * (1.0 + kappa) / tire.R_e, Fz, T, 1.0, 0.0, 0.0]
     res: dict = {"grid": grid or "default", "case": {"vx": vx, "kappa": kappa, "Fz": Fz,
                                                      "T_K": T},
                  "defaults": {"n_elements": N_TRANSIENT, "dt_internal_s": DT_INTERNAL,

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-INPUTS = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma")
+INPUTS = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma", "water_depth")
 OUTPUTS = ("Fx", "Fy", "Mz", "kappa", "alpha", "mu_eff", "mu_slide", "sliding_fraction",
            "dT_flash_max", "T_tread")
 R_E = 0.31
@@ -43,7 +43,8 @@ TARGET_US = 40.0
 def operating_point() -> list[float]:
     """Braking at 20 m/s, kappa = -0.05, alpha = 1 deg, 4 kN, 20 C."""
     vx = 20.0
-    return [vx, -vx * math.tan(math.radians(1.0)), vx * 0.95 / R_E, 4000.0, 293.15, 1.0, 0.0]
+    return [vx, -vx * math.tan(math.radians(1.0)), vx * 0.95 / R_E, 4000.0, 293.15, 1.0, 0.0,
+            0.0]
 
 
 class Instance:

@@ -36,12 +36,12 @@ from pathlib import Path
 HERE = Path(__file__).parent
 sys.path.insert(0, str(HERE.parent))
 
-INPUTS = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma")
+INPUTS = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma", "water_depth")
 OUTPUTS = ("Fx", "Fy", "Mz", "kappa", "alpha", "mu_eff", "mu_slide", "sliding_fraction",
            "dT_flash_max", "T_tread")
 DT = 1e-3
 #: The C host's operating point after its first 20 ms (host_example.c).
-U = [20.0, 0.3, 20.0 * 0.95 / 0.31, 4000.0, 293.15, 1.0, 0.0]
+U = [20.0, 0.3, 20.0 * 0.95 / 0.31, 4000.0, 293.15, 1.0, 0.0, 0.0]
 TARGET_US, TARGET_RTF4 = 10.0, 25.0
 
 

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-INPUTS = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma")
+INPUTS = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma", "water_depth")
 OUTPUTS = ("Fx", "Fy", "Mz", "kappa", "alpha", "mu_eff", "mu_slide", "sliding_fraction",
            "dT_flash_max", "T_tread", "Mx", "My")
 
@@ -136,7 +136,8 @@ class FmuDriver:
 
 def braking_inputs(n: int, dt: float = 1e-3, seed: int = 5) -> np.ndarray:
     """A manoeuvre of ``n`` steps: rolling at 20 m/s, a braking slip ramp with steer, a load
-    change, a temperature change, a wet patch and camber (rows: :data:`INPUTS`)."""
+    change, a temperature change, a low-friction patch and camber; a dry road (rows:
+    :data:`INPUTS`)."""
     t = np.arange(n) * dt
     R_e = 0.31
     vx = 20.0 - 5.0 * t
@@ -149,4 +150,4 @@ def braking_inputs(n: int, dt: float = 1e-3, seed: int = 5) -> np.ndarray:
     rng = np.random.default_rng(seed)
     vx = vx + 0.01 * rng.standard_normal(n)
     gamma = 0.03 * np.sin(2 * math.pi * 1.5 * t)
-    return np.stack([vx, vy, omega, Fz, T, mu, gamma])
+    return np.stack([vx, vy, omega, Fz, T, mu, gamma, np.zeros(n)])

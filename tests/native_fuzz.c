@@ -77,15 +77,15 @@ int main(int argc, char **argv) {
             fmi2EnterInitializationMode(c[i]) || fmi2ExitInitializationMode(c[i]))
             return 3;
     }
-    const fmi2ValueReference vin[7] = {0, 1, 2, 3, 4, 5, 6};
-    const fmi2ValueReference vout[12] = {7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18};
-    const fmi2ValueReference vstatus = 19;
+    const fmi2ValueReference vin[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+    const fmi2ValueReference vout[12] = {8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19};
+    const fmi2ValueReference vstatus = 20;
     double t[NI] = {0, 0};
     long n_adv = 0, n_roll = 0, n_deser = 0, n_corrupt = 0, n_discard = 0, n_err = 0,
          n_warn = 0, n_det = 0;
     for (k = 0; k < steps; k++) {
         int i = (int)(next() % NI);
-        double u[7], y[12], y2[12];
+        double u[8], y[12], y2[12];
         u[0] = range(-40, 60);
         u[1] = range(-10, 10);
         u[2] = range(-200, 300);
@@ -93,8 +93,9 @@ int main(int argc, char **argv) {
         u[4] = range(230, 420);
         u[5] = range(-0.5, 2.5);
         u[6] = range(-0.7, 0.7);
+        u[7] = next() % 3 == 0 ? range(-0.002, 0.01) : 0.0;
         if (next() % 5 == 0) {
-            u[next() % 7] = adversarial();
+            u[next() % 8] = adversarial();
             n_adv++;
         }
         if (next() % 50 == 0) u[0] = u[2] = 0.0; /* standstill */
@@ -109,7 +110,7 @@ int main(int argc, char **argv) {
         case 4: h = 1e9; bad_h = 1; break;
         default: break;
         }
-        if (fmi2SetReal(c[i], vin, 7, u) != fmi2OK) FAIL("setReal of inputs refused");
+        if (fmi2SetReal(c[i], vin, 8, u) != fmi2OK) FAIL("setReal of inputs refused");
         fmi2Status st = fmi2DoStep(c[i], t[i], h, fmi2True);
         if (bad_h) {
             if (st != fmi2Error) FAIL("doStep with h = %g returned %d", h, st);
@@ -126,7 +127,7 @@ int main(int argc, char **argv) {
         for (int j = 0; j < 12; j++)
             if (!isfinite(y[j])) FAIL("output %d = %g not finite", j, y[j]);
         fmi2Integer status;
-        if (fmi2GetInteger(c[i], &vstatus, 1, &status) || status < 0 || status > 255)
+        if (fmi2GetInteger(c[i], &vstatus, 1, &status) || status < 0 || status > 1023)
             FAIL("input_status %d", (int)status);
         uint64_t r = next() % 1000;
         int s = (int)(next() % NS);

@@ -28,8 +28,9 @@ int main(int argc, char **argv) {
     CHECK(FMI2EnterInitializationMode(S));
     CHECK(FMI2ExitInitializationMode(S));
     int n = atoi(argv[4]);
-    const fmi2ValueReference vin[7] = {0, 1, 2, 3, 4, 5, 6}, vout[3] = {7, 8, 9};
-    double u[7] = {20.0, 0.3, 20.0 * 0.95 / 0.31, 4000.0, 293.15, 1.0, 0.0}, y[3], first[3];
+    const fmi2ValueReference vin[8] = {0, 1, 2, 3, 4, 5, 6, 7}, vout[3] = {8, 9, 10};
+    double u[8] = {20.0, 0.3, 20.0 * 0.95 / 0.31, 4000.0, 293.15, 1.0, 0.0, 0.0}, y[3],
+           first[3];
     fmi2FMUstate st = NULL;
     size_t size = 0;
     fmi2Byte *blob = NULL;
@@ -40,7 +41,7 @@ int main(int argc, char **argv) {
             blob = malloc(size);
             CHECK(FMI2SerializeFMUstate(S, st, blob, size));
         }
-        CHECK(FMI2SetReal(S, vin, 7, u));
+        CHECK(FMI2SetReal(S, vin, 8, u));
         CHECK(FMI2DoStep(S, k * 1e-3, 1e-3, fmi2True));
     }
     CHECK(FMI2GetReal(S, vout, 3, first));
@@ -48,7 +49,7 @@ int main(int argc, char **argv) {
     CHECK(FMI2DeSerializeFMUstate(S, blob, size, &st2));
     CHECK(FMI2SetFMUstate(S, st2));
     for (int k = n / 2; k < n; k++) {
-        CHECK(FMI2SetReal(S, vin, 7, u));
+        CHECK(FMI2SetReal(S, vin, 8, u));
         CHECK(FMI2DoStep(S, k * 1e-3, 1e-3, fmi2True));
     }
     CHECK(FMI2GetReal(S, vout, 3, y));

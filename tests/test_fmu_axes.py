@@ -42,7 +42,7 @@ def _run(fmu, axes: int, vy: float, n: int = 60) -> np.ndarray:
     d = FmuDriver(fmu, name=f"axes{axes}", logging=False, start_values={"axes": axes})
     try:
         for _ in range(n):
-            out = d.step([VX, vy, VX / R_E, FZ, 293.15, 1.0, 0.0])
+            out = d.step([VX, vy, VX / R_E, FZ, 293.15, 1.0, 0.0, 0.0])
         return out
     finally:
         d.close()
@@ -69,4 +69,4 @@ def test_an_unknown_axis_system_is_refused(fmu) -> None:
 
     with pytest.raises(FMICallException):
         d = FmuDriver(fmu, name="axes7", logging=False, start_values={"axes": 7})
-        d.step([VX, 0.0, VX / R_E, FZ, 293.15, 1.0, 0.0])
+        d.step([VX, 0.0, VX / R_E, FZ, 293.15, 1.0, 0.0, 0.0])

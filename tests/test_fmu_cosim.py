@@ -219,7 +219,7 @@ def _step_status(d: FmuDriver, u, dt=1e-3) -> int:
 
 def test_bad_inputs_are_repaired_logged_and_flagged(fmu, unzipdir):
     d = FmuDriver(fmu, unzipdir, "bad")
-    good = [20.0, 0.0, 20.0 / R_E * 0.95, 4000.0, 293.15, 1.0, 0.0]
+    good = [20.0, 0.0, 20.0 / R_E * 0.95, 4000.0, 293.15, 1.0, 0.0, 0.0]
     for _ in range(20):
         d.step(good)
     cases = [
@@ -244,7 +244,7 @@ def test_bad_inputs_are_repaired_logged_and_flagged(fmu, unzipdir):
             f"{name} = {value}: a warning naming the input, got {new}"
         d.step(good)
         assert d.status() == 0, "the flag clears with good inputs"
-    lift = d.step([20.0, 0.0, 60.0, -1.0, 293.15, 1.0, 0.0])
+    lift = d.step([20.0, 0.0, 60.0, -1.0, 293.15, 1.0, 0.0, 0.0])
     assert lift[0] == lift[1] == lift[2] == 0.0, "negative load is lift-off: no forces"
     d.close()
 
@@ -300,21 +300,21 @@ def test_random_and_adversarial_sequences_through_fmpy(fmu, unzipdir):
 def test_standstill_reversing_and_lift_off(fmu, unzipdir):
     d = FmuDriver(fmu, unzipdir, "slow")
     for _ in range(500):   # parked
-        y = d.step([0.0, 0.0, 0.0, 4000.0, 293.15, 1.0, 0.0])
+        y = d.step([0.0, 0.0, 0.0, 4000.0, 293.15, 1.0, 0.0, 0.0])
     assert np.isfinite(y).all() and abs(y[0]) < 1.0 and y[3] == 0.0, "parked: no force"
     for k in range(1, 1001):   # roll away, then back through zero to reversing
         v = 2.0 * math.sin(2 * math.pi * k / 1000)
-        y = d.step([v, 0.0, v / R_E, 4000.0, 293.15, 1.0, 0.0])
+        y = d.step([v, 0.0, v / R_E, 4000.0, 293.15, 1.0, 0.0, 0.0])
         assert np.isfinite(y).all() and abs(y[0]) < 0.5 * 4000.0, f"creeping v = {v}"
     for _ in range(300):   # braking while reversing at 5 m/s
-        y = d.step([-5.0, 0.0, -5.0 / R_E * 0.9, 4000.0, 293.15, 1.0, 0.0])
+        y = d.step([-5.0, 0.0, -5.0 / R_E * 0.9, 4000.0, 293.15, 1.0, 0.0, 0.0])
     fx, kappa = y[OUTPUTS.index("Fx")], y[OUTPUTS.index("kappa")]
     assert fx > 500.0, f"braking in reverse pushes forwards (+x), Fx = {fx}"
     assert kappa == pytest.approx(-0.1, rel=1e-9), "braking slip keeps its sign in reverse"
-    locked = np.array([d.step([-5.0, 0.0, 0.0, 4000.0, 293.15, 1.0, 0.0]) for _ in range(200)])
+    locked = np.array([d.step([-5.0, 0.0, 0.0, 4000.0, 293.15, 1.0, 0.0, 0.0]) for _ in range(200)])
     tail = locked[-100:]   # locked wheel in reverse: slides (stick-slipping), pushes forwards
     assert tail[:, OUTPUTS.index("sliding_fraction")].mean() > 0.3 and tail[:, 0].min() > 0.0
-    y = d.step([-5.0, 0.0, 0.0, 0.0, 293.15, 1.0, 0.0])
+    y = d.step([-5.0, 0.0, 0.0, 0.0, 293.15, 1.0, 0.0, 0.0])
     assert y[0] == y[1] == y[2] == 0.0, "lift-off: exactly zero forces"
     assert d.status() == 0, "standstill, reversing and lift-off are normal inputs"
     d.close()
@@ -376,13 +376,13 @@ def test_extreme_inputs_after_lift_off_leave_no_hidden_state(fmu, unzipdir):
     mu(v) makes the tread stick-slip (docs/tire-core.md), fresh instance included."""
     start = {"tire.thermal.enabled": False}
     vx, FZ = 20.0, 4000.0
-    braking = [vx, 0.0, vx * 0.95 / R_E, FZ, 293.15, 1.0, 0.0]
+    braking = [vx, 0.0, vx * 0.95 / R_E, FZ, 293.15, 1.0, 0.0, 0.0]
     hit = FmuDriver(fmu, unzipdir, "hit", start_values=start)
     fresh = FmuDriver(fmu, unzipdir, "fresh", start_values=start)
     for _ in range(50):
         hit.step(braking)
     for _ in range(20):
-        hit.step([vx, 0.0, vx * 0.9 / R_E, 0.0, 293.15, 1.0, 0.0])          # lift-off
+        hit.step([vx, 0.0, vx * 0.9 / R_E, 0.0, 293.15, 1.0, 0.0, 0.0])          # lift-off
     hit.step([-1e30, 1e6, vx * 0.9 / R_E, 1e308, 3e38, -math.inf])  # clamped
     assert hit.status() == 29, "the guard reports what it clamped"
     a = np.array([hit.step(braking) for _ in range(500)])

@@ -27,7 +27,7 @@ import pytest
 from fmu_support import INPUTS, FmuDriver, build_test_fmu, synthetic_grid
 
 FZ, VX, R_E = 4000.0, 20.0, 0.31
-STEADY = [VX, 0.0, VX * 0.95 / R_E, FZ, 293.15, 1.0, 0.0]
+STEADY = [VX, 0.0, VX * 0.95 / R_E, FZ, 293.15, 1.0, 0.0, 0.0]
 START = {"tire.thermal.enabled": False}
 FATAL = 4
 GARBAGE = (math.nan, math.inf, -math.inf, 1e30, -1e30, 1e308, 0.0, -0.0, 5e-324, -4000.0)

@@ -138,24 +138,24 @@ def test_native_honours_parameters(fmu, unzipdir):
 
 
 def _guard_reference(U, tire):
-    g = InputGuard(default_limits(tire), [0.0, 0.0, 0.0, tire.Fz_nom, 293.15, 1.0, 0.0])
+    g = InputGuard(default_limits(tire), [0.0, 0.0, 0.0, tire.Fz_nom, 293.15, 1.0, 0.0, 0.0])
     return [g.apply(list(u))[:2] for u in U]
 
 
 def test_native_input_guard_matches_python_guard(fmu, unzipdir):
     tire = load_tire("passenger")
     nan, inf = math.nan, math.inf
-    U = [[20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0],
-         [nan, 0.1, 60.0, 4000.0, 293.15, 1.0, 0.0],
-         [20.0, 0.0, 60.0, -500.0, 293.15, 1.0, 0.0],
-         [1e9, -1e9, 1e12, 1e12, 1e5, 1e3, 0.0],
-         [-inf, inf, nan, nan, nan, nan, 0.0],
-         [20.0, 0.0, 60.0, 4000.0, 10.0, -1.0, 0.0],
-         [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0],
-         [-3.0, 0.5, -10.0, 3000.0, 300.0, 0.5, 0.0],
-         [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.03],
-         [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, nan],
-         [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, -2.0]]
+    U = [[20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0, 0.0],
+         [nan, 0.1, 60.0, 4000.0, 293.15, 1.0, 0.0, 0.0],
+         [20.0, 0.0, 60.0, -500.0, 293.15, 1.0, 0.0, 0.0],
+         [1e9, -1e9, 1e12, 1e12, 1e5, 1e3, 0.0, 0.0],
+         [-inf, inf, nan, nan, nan, nan, 0.0, 0.0],
+         [20.0, 0.0, 60.0, 4000.0, 10.0, -1.0, 0.0, 0.0],
+         [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0, 0.0],
+         [-3.0, 0.5, -10.0, 3000.0, 300.0, 0.5, 0.0, 0.0],
+         [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.03, 0.0],
+         [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, nan, 0.0],
+         [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, -2.0, 0.0]]
     ref = _guard_reference(U, tire)
     drv = FmuDriver(fmu, unzipdir)
     py = _model()
@@ -175,7 +175,7 @@ def test_native_dostep_status_codes(fmu, unzipdir):
     from fmpy.fmi1 import FMICallException
 
     drv = FmuDriver(fmu, unzipdir)
-    drv.step([20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0])
+    drv.step([20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0, 0.0])
     # repaired inputs: fmi2Warning (fmpy returns it, it does not raise)
     drv.fmu.setReal([drv.vr["Fz"]], [-1.0])
     assert drv.fmu.fmi2DoStep(drv.fmu.component, drv.time, 1e-3, 1) == 1
@@ -185,7 +185,7 @@ def test_native_dostep_status_codes(fmu, unzipdir):
             drv.fmu.doStep(drv.time, bad)
         assert e.value.status == 3, "fmi2Error (not Fatal) for a bad communication step"
     drv.fmu.setReal([drv.vr["Fz"]], [4000.0])
-    assert np.isfinite(drv.step([20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0])).all()
+    assert np.isfinite(drv.step([20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0, 0.0])).all()
     drv.close()
 
 
@@ -193,7 +193,7 @@ def test_native_misuse_is_fmi2error_and_changes_nothing(fmu, unzipdir):
     from fmpy.fmi1 import FMICallException
 
     drv = FmuDriver(fmu, unzipdir)
-    drv.step([20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0])
+    drv.step([20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0, 0.0])
     before = drv.outputs()
     f = drv.fmu
     n_vars = len(drv.md.modelVariables)
@@ -294,7 +294,7 @@ def test_native_instances_are_independent(fmu, unzipdir):
 
 def test_native_limits_are_parameters(fmu, unzipdir):
     drv = FmuDriver(fmu, unzipdir, start_values={"limit.Fz": 3000.0})
-    drv.step([20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0])
+    drv.step([20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0, 0.0])
     assert drv.status() == 8
     assert set(LIMITS) <= set(drv.vr)
     drv.close()
@@ -395,7 +395,7 @@ def test_native_initial_outputs_and_reset(fmu, unzipdir):
     assert drv.outputs().tolist() == [0.0, 0.0, 0.0, kappa, alpha, 0.0, 0.0, 0.0, 0.0, 300.0,
                                       0.0, 0.0]
     for _ in range(20):
-        drv.step([20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0])
+        drv.step([20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0, 0.0])
     f = drv.fmu
     f.reset()
     f.setupExperiment(startTime=0.0)

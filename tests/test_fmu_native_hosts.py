@@ -17,7 +17,7 @@ from tire_brush.params import load_tire
 from tire_brush.transient import TransientBrushTire
 
 pytestmark = pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
-U = [20.0, 0.3, 20.0 * 0.95 / 0.31, 4000.0, 293.15, 1.0, 0.0]
+U = [20.0, 0.3, 20.0 * 0.95 / 0.31, 4000.0, 293.15, 1.0, 0.0, 0.0]
 
 
 @pytest.fixture(scope="module")
@@ -54,9 +54,9 @@ def test_libcosim_runs_four_native_tires(fmu):
         u = [*U[:3], U[3] * (1.0 + 0.1 * i), *U[4:]]
         for _ in range(150):
             ref = m.step(1e-3, *u).as_array()
-        got = np.array(obs.last_real_values(i, list(range(7, 19))))
+        got = np.array(obs.last_real_values(i, list(range(8, 20))))
         np.testing.assert_allclose(got, ref, rtol=1e-9, atol=1e-12)
-    assert len({tuple(obs.last_real_values(i, [7])) for i in idx}) == 4, "independent tires"
+    assert len({tuple(obs.last_real_values(i, [8])) for i in idx}) == 4, "independent tires"
 
 
 @pytest.mark.skipif("win64" not in compilers(), reason="no win64 cross-compiler (mingw-w64 "

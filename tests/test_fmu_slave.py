@@ -23,8 +23,9 @@ from tire_brush.params import load_tire
 from tire_brush.transient import TransientBrushTire
 
 LIMITS = {"limit.v": 150.0, "limit.omega": 1000.0, "limit.Fz": 5e4, "limit.T_min": 200.0,
-          "limit.T_max": 500.0, "limit.mu_scale": 5.0, "limit.gamma": 0.5}
-START = [0.0, 0.0, 0.0, 4000.0, 293.15, 1.0, 0.0]
+          "limit.T_max": 500.0, "limit.mu_scale": 5.0, "limit.gamma": 0.5,
+          "limit.water_depth": 0.1}
+START = [0.0, 0.0, 0.0, 4000.0, 293.15, 1.0, 0.0, 0.0]
 
 
 @pytest.fixture(scope="module")
@@ -58,7 +59,8 @@ def test_interface_covers_every_tire_parameter():
 
 def test_every_real_has_a_known_unit_and_names_are_unique():
     tire = interface.tire_to_dict(load_tire("passenger"))
-    opts = {"n_elements": 100, "dt_internal": 1e-3, "s0": 2e-4, "v_floor": 0.1, "axes": 0}
+    opts = {"n_elements": 100, "dt_internal": 1e-3, "s0": 2e-4, "v_floor": 0.1, "axes": 0,
+            "texture_depth": 0.0}
     vs = interface.variables(tire, opts, LIMITS, dict.fromkeys(interface.INFO, "x"))
     names = [v.name for v in vs]
     assert len(names) == len(set(names)), "variable names must be unique"
@@ -103,30 +105,42 @@ def test_state_bytes_are_exact_and_checked():
 # -- input guard --------------------------------------------------------------------------------
 def test_guard_repairs_bad_inputs_and_logs_each_condition_once():
     g = InputGuard(LIMITS, START)
-    x, status, msgs = g.apply([20.0, 0.0, 60.0, 4000.0, 300.0, 1.0, 0.02])
-    assert (status, msgs) == (0, []) and x == [20.0, 0.0, 60.0, 4000.0, 300.0, 1.0, 0.02]
-    x, status, msgs = g.apply([math.nan, 0.0, 1e9, -10.0, 0.0, -1.0, 0.02])
-    assert x == [20.0, 0.0, 1000.0, 0.0, 200.0, 0.0, 0.02], \
+    x, status, msgs = g.apply([20.0, 0.0, 60.0, 4000.0, 300.0, 1.0, 0.02, 0.0])
+    assert (status, msgs) == (0, []) and x == [20.0, 0.0, 60.0, 4000.0, 300.0, 1.0, 0.02, 0.0]
+    x, status, msgs = g.apply([math.nan, 0.0, 1e9, -10.0, 0.0, -1.0, 0.02, 0.0])
+    assert x == [20.0, 0.0, 1000.0, 0.0, 200.0, 0.0, 0.02, 0.0], \
         "NaN held, spin/T/mu clamped, Fz >= 0"
     assert status == sum(STATUS_BITS[k] for k in ("nonfinite", "speed_clamped",
                                                   "negative_load", "temperature_clamped",
                                                   "mu_scale_clamped"))
     assert len(msgs) == 5 and all(level == 1 for level, _ in msgs)
     assert any("vx = nan" in m and "holding its last finite value 20" in m for _, m in msgs)
-    _, status2, msgs2 = g.apply([math.nan, 0.0, 1e9, -10.0, 0.0, -1.0, 0.02])
+    _, status2, msgs2 = g.apply([math.nan, 0.0, 1e9, -10.0, 0.0, -1.0, 0.02, 0.0])
     assert status2 == status and msgs2 == [], "a persisting condition is logged once"
-    x, status, msgs = g.apply([21.0, 0.0, 60.0, 6e4, 300.0, 1.0, 0.02])
+    x, status, msgs = g.apply([21.0, 0.0, 60.0, 6e4, 300.0, 1.0, 0.02, 0.0])
     assert x[3] == 5e4 and status == STATUS_BITS["load_clamped"]
     cleared = [m for level, m in msgs if level == 0]
     assert len(cleared) == 5 and any("after 2 step(s)" in m for m in cleared)
-    x, _, _ = g.apply([-30.0, 0.0, -80.0, 4000.0, 300.0, 1.0, 0.02])
+    x, _, _ = g.apply([-30.0, 0.0, -80.0, 4000.0, 300.0, 1.0, 0.02, 0.0])
     assert x[:3] == [-30.0, 0.0, -80.0], "reversing is a normal input"
     # camber: NaN holds the last finite value, beyond limit.gamma it is clamped (sign kept)
-    x, status, msgs = g.apply([20.0, 0.0, 60.0, 4000.0, 300.0, 1.0, math.nan])
+    x, status, msgs = g.apply([20.0, 0.0, 60.0, 4000.0, 300.0, 1.0, math.nan, 0.0])
     assert x[6] == 0.02 and status == STATUS_BITS["nonfinite"]
     assert any("gamma = nan" in m for _, m in msgs)
-    x, status, msgs = g.apply([20.0, 0.0, 60.0, 4000.0, 300.0, 1.0, -2.0])
+    x, status, msgs = g.apply([20.0, 0.0, 60.0, 4000.0, 300.0, 1.0, -2.0, 0.0])
     assert x[6] == -0.5 and status == STATUS_BITS["camber_clamped"]
+    # water: negative or beyond limit.water_depth clamped; without a wet branch any water is
+    # a dry road (its own bit), with one it passes
+    x, status, _ = g.apply([20.0, 0.0, 60.0, 4000.0, 300.0, 1.0, 0.0, -1e-3])
+    assert x[7] == 0.0 and status == STATUS_BITS["water_clamped"]
+    x, status, msgs = g.apply([20.0, 0.0, 60.0, 4000.0, 300.0, 1.0, 0.0, 1e-3])
+    assert x[7] == 0.0 and status == STATUS_BITS["no_wet_branch"]
+    assert any("no wet branch" in m for _, m in msgs)
+    wet = InputGuard(LIMITS, START, wet=True)
+    x, status, _ = wet.apply([20.0, 0.0, 60.0, 4000.0, 300.0, 1.0, 0.0, 1e-3])
+    assert x[7] == 1e-3 and status == 0
+    x, status, _ = wet.apply([20.0, 0.0, 60.0, 4000.0, 300.0, 1.0, 0.0, 0.5])
+    assert x[7] == 0.1 and status == STATUS_BITS["water_clamped"]
 
 
 # -- packaging ----------------------------------------------------------------------------------
@@ -202,7 +216,7 @@ def test_state_of_another_build_or_discretisation_is_refused(resources):
     """Refused states are logged as errors and change nothing (the slave never raises into
     pythonfmu, which would make it fmi2Fatal: fmu_src/runtime/slave.py, module docstring)."""
     s = make_slave(resources)
-    step(s, [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0])
+    step(s, [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0, 0.0])
     before = state_io.to_bytes(s._get_fmu_state())
     bad = s._get_fmu_state()
     bad["build_id"] = "sha256:" + "0" * 64
@@ -217,7 +231,7 @@ def test_state_of_another_build_or_discretisation_is_refused(resources):
 def test_parameters_set_before_initialization_are_used(resources):
     coarse = make_slave(resources, **{"n_elements": 40, "tire.thermal.enabled": False})
     assert coarse._model.n_elements == 40 and not coarse._model.thermal
-    y = step(coarse, [20.0, 0.0, 20.0 / 0.31 * 0.9, 4000.0, 300.0, 1.0, 0.0])
+    y = step(coarse, [20.0, 0.0, 20.0 / 0.31 * 0.9, 4000.0, 300.0, 1.0, 0.0, 0.0])
     assert y[OUTPUTS.index("T_tread")] == 300.0, "thermal off: T_tread = T_surface"
     coarse.vars[coarse.vr["n_elements"]].setter(80)
     assert coarse._p["n_elements"] == 40, "a fixed parameter cannot change after init"
@@ -236,7 +250,7 @@ def test_invalid_parameters_fail_at_initialization_with_the_field_named(resource
 
 def test_bad_communication_steps_are_discarded_without_advancing(resources):
     s = make_slave(resources)
-    u = [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0]
+    u = [20.0, 0.0, 60.0, 4000.0, 293.15, 1.0, 0.0, 0.0]
     s.set_real([s.vr[n] for n in INPUTS], u)
     before = s._get_fmu_state()
     for dt in (-1e-3, math.nan, math.inf, 1e3):
@@ -248,7 +262,7 @@ def test_bad_communication_steps_are_discarded_without_advancing(resources):
 
 def test_a_failing_model_step_is_discarded_reset_and_logged(resources, monkeypatch):
     s = make_slave(resources)
-    u = [20.0, 0.0, 20.0 / 0.31 * 0.9, 4000.0, 293.15, 1.0, 0.0]
+    u = [20.0, 0.0, 20.0 / 0.31 * 0.9, 4000.0, 293.15, 1.0, 0.0, 0.0]
     for _ in range(30):
         step(s, u)
     assert np.abs(s._model.get_state()["elements"]).max() > 0

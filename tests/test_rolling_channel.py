@@ -112,7 +112,7 @@ def test_both_fmu_flavours_carry_the_table_and_give_my(grid, table, tmp_path):
     """The native FMU (ISO-W axes) and the pythonfmu slave (adapted SAE) built on the default
     grid carry the table and step like the Python model with it: the native FMU's My is the
     model's, flipped into ISO-W (My < 0 rolling forward), the slave's equal to the bit."""
-    u = [VX, 0.3, VX * 0.97 / 0.31, FZ, T20, 1.0, 0.02]
+    u = [VX, 0.3, VX * 0.97 / 0.31, FZ, T20, 1.0, 0.02, 0.0]
     model = _tire(grid, table)
     want = np.array([model.step(1e-3, *u).as_array() for _ in range(30)])
     # pythonfmu flavour, in process

@@ -45,7 +45,7 @@ CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math", "-fPIC", "-s
 #: API and state version the binding expects (``TF_VERSION`` in ``tirecore.h``).
 API_VERSION = 3
 #: Outputs, element columns and steady columns (``tirecore.h``).
-N_IN, N_OUT, N_ELEM, STEADY_IN, STEADY_OUT = 7, 12, 7, 5, 8
+N_IN, N_OUT, N_ELEM, STEADY_IN, STEADY_OUT = 8, 12, 7, 5, 8
 
 _lock = threading.Lock()
 _lib: ctypes.CDLL | None = None
@@ -63,7 +63,8 @@ class Params(ctypes.Structure):
     _fields_ = [(n, ctypes.c_double) for n in (
         "R_e", "Fz_nom", "R0", "width", "C_z", "q_ra1", "q_ra2", "q_rb1", "q_rb2", "Fz_max",
         "p_inflation", "p_nom", "p_fz1", "end_zone",
-        "k_x", "k_y", "mass", "d_x", "d_y", "void_ratio")] + [("rigid", ctypes.c_int)] + [
+        "k_x", "k_y", "mass", "d_x", "d_y", "void_ratio", "tread_depth")] + [
+        ("rigid", ctypes.c_int)] + [
         (n, ctypes.c_double) for n in ("kc_x", "kc_y", "dc_x", "dc_y", "kc_psi", "dc_psi",
                                        "camber_reduction")] + [
         ("thermal", ctypes.c_int)] + [
@@ -181,6 +182,9 @@ def _declare(lib: ctypes.CDLL) -> None:
         "tf_tire_set_state": (ctypes.c_int, [vp, dp]),
         "tf_tire_work": (ctypes.c_double, [vp]),
         "tf_tire_set_rolling": (ctypes.c_int, [vp, vp]),
+        "tf_wet_new": (vp, [ctypes.c_int] * 5 + [dp] * 4 + [ctypes.c_double] * 2),
+        "tf_wet_free": (None, [vp]),
+        "tf_tire_set_wet": (ctypes.c_int, [vp, vp, ctypes.c_double]),
         "tf_steady": (ctypes.c_int, [pp, vp, ctypes.c_int, ctypes.c_int, dp, ctypes.c_double,
                                      ctypes.c_double, dp]),
     }
@@ -242,6 +246,20 @@ class CoreTable:
             self.handle = None
 
 
+class CoreWet:
+    """A wet branch in the core (``tf_wet``), owned by this object (freed with it)."""
+
+    def __init__(self, handle: int, lib: ctypes.CDLL) -> None:
+        self.handle = handle
+        self._lib = lib
+
+    def __del__(self) -> None:
+        handle = getattr(self, "handle", None)
+        if handle:
+            self._lib.tf_wet_free(handle)
+            self.handle = None
+
+
 def core_params(params, *, n_elements: int, dt_internal: float, tol: float, v_floor: float,
                 thermal: bool, rigid: bool, massless: bool = False) -> Params:
     """``tf_params`` of a :class:`~tire_brush.params.TireParams` and the model options.
@@ -255,7 +273,7 @@ def core_params(params, *, n_elements: int, dt_internal: float, tol: float, v_fl
               "p_inflation", "p_nom", "p_fz1", "end_zone"):
         setattr(P, f, getattr(pl, f))
     tr = params.tread
-    P.k_x, P.k_y, P.void_ratio = tr.k_x, tr.k_y, tr.void_ratio
+    P.k_x, P.k_y, P.void_ratio, P.tread_depth = tr.k_x, tr.k_y, tr.void_ratio, tr.depth
     P.mass, P.d_x, P.d_y = (0.0, 0.0, 0.0) if massless else (tr.mass, tr.d_x, tr.d_y)
     c = params.carcass
     P.rigid = int(bool(rigid))

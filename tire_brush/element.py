@@ -50,6 +50,7 @@ This module imports only the standard library: it runs inside an FMU.
 
 from __future__ import annotations
 
+import copy
 import math
 
 #: SDIRK2 coefficient ``gamma = 1 - 1/sqrt(2)``.
@@ -134,22 +135,29 @@ class RefTable:
         self.smax: list[float] | None = None
         self.pmin: list[float] | None = None
         if all(flat[i] >= 0.0 for i in range(len(flat)) if i % 3 != 2):
-            smax = [0.0] * (nv * ntp)
-            pmin = [0.0] * (nv * ntp)
-            for k in range(ntp):
-                for j in range(nv - 1, -1, -1):
-                    b = (j * ntp + k) * 3
-                    hi = flat[b] if flat[b] > flat[b + 1] else flat[b + 1]
-                    if j < nv - 1 and smax[(j + 1) * ntp + k] > hi:
-                        hi = smax[(j + 1) * ntp + k]
-                    smax[j * ntp + k] = hi
-                for j in range(nv):
-                    b = (j * ntp + k) * 3
-                    lo = flat[b] if flat[b] < flat[b + 1] else flat[b + 1]
-                    if j > 0 and pmin[(j - 1) * ntp + k] < lo:
-                        lo = pmin[(j - 1) * ntp + k]
-                    pmin[j * ntp + k] = lo
-            self.smax, self.pmin = smax, pmin
+            self.smax = [0.0] * (nv * ntp)
+            self.pmin = [0.0] * (nv * ntp)
+            self.bounds(0, ntp)
+
+    def bounds(self, k0: int, k1: int) -> None:
+        """Node-walk bounds ``smax``, ``pmin`` of the (T, p) columns ``k0 <= k < k1`` from the
+        values (``table_bounds`` of the core)."""
+        nv = self.n[0]
+        ntp = self.n[1] * self.n[2]
+        flat, smax, pmin = self.val, self.smax, self.pmin
+        for k in range(k0, k1):
+            for j in range(nv - 1, -1, -1):
+                b = (j * ntp + k) * 3
+                hi = flat[b] if flat[b] > flat[b + 1] else flat[b + 1]
+                if j < nv - 1 and smax[(j + 1) * ntp + k] > hi:
+                    hi = smax[(j + 1) * ntp + k]
+                smax[j * ntp + k] = hi
+            for j in range(nv):
+                b = (j * ntp + k) * 3
+                lo = flat[b] if flat[b] < flat[b + 1] else flat[b + 1]
+                if j > 0 and pmin[(j - 1) * ntp + k] < lo:
+                    lo = pmin[(j - 1) * ntp + k]
+                pmin[j * ntp + k] = lo
 
     def bound(self, arr: list[float], q: tuple, j: int) -> float:
         """Bilinear (T, p) interpolation of a bound array (``smax`` or ``pmin``) at speed
@@ -198,6 +206,40 @@ class RefTable:
         v = self.val
         return [w00 * v[base + k] + w01 * v[base + 3 + k] + w10 * v[base + o2 + k]
                 + w11 * v[base + o2 + 3 + k] for k in range(3)]
+
+
+def _locate_arr(a: list[float], x: float) -> tuple[int, float]:
+    """Cell index and fraction of ``x`` on the ascending axis ``a``, clamped (``locate_arr``
+    of the core)."""
+    n = len(a)
+    if not x > a[0]:
+        return 0, 0.0
+    if not x < a[n - 1]:
+        return n - 2, 1.0
+    lo, hi = 0, n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if a[mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    return lo, (x - a[lo]) / (a[lo + 1] - a[lo])
+
+
+class RefWet:
+    """Wet branch of a friction table (``tf_wet`` of the core; ``tirecore.h`` documents the
+    layout) on ``n = (nv, nT, np)`` nodes: axes ``depth`` [m] (first 0) and ``log10_t``, flat
+    lists ``mu`` (nd, nv, nT, np, 4: cold_w0, cold_w1, hot_w0, hot_w1) and ``w`` (nd, nt, nv,
+    nT, np), the excess depth of full hydroplaning ``d_full`` [m] and ``drain_scale``."""
+
+    def __init__(self, n, depth, log10_t, mu, w, d_full: float, drain_scale: float) -> None:
+        self.n = [int(x) for x in n]
+        self.depth = [float(x) for x in depth]
+        self.log10_t = [float(x) for x in log10_t]
+        self.mu = [float(x) for x in mu]
+        self.w = [float(x) for x in w]
+        self.d_full = float(d_full)
+        self.drain_scale = float(drain_scale)
 
 
 def _flatten(values):
@@ -787,7 +829,69 @@ class RefTire:
         self.L = math.ceil(2.0 * self.a_max / self.dx) + 2
         self.work = 0.0
         self.rr: RefTable | None = None
+        self.wet: RefWet | None = None
+        self.texture_depth = 0.0
+        self.scratch: RefTable | None = None
+        self.wkey: tuple | None = None
         self.reset(math.nan)
+
+    def set_wet(self, w: RefWet | None, texture_depth: float = 0.0) -> None:
+        """Wet branch on this tire's table nodes and the road's texture depth [m]
+        (``tf_tire_set_wet``)."""
+        self.texture_depth = float(texture_depth)
+        if w is not None and w.n != self.t.n:
+            raise ValueError("the wet branch has other nodes than the friction table")
+        self.wet = w
+        self.wkey = None
+        if w is not None and self.scratch is None:
+            s = copy.copy(self.t)
+            s.val = list(self.t.val)
+            nn = self.t.n[0] * self.t.n[1] * self.t.n[2]
+            s.smax = [0.0] * nn
+            s.pmin = [0.0] * nn
+            self.scratch = s
+
+    def _step_table(self, T0: float, d: float, lt: float) -> RefTable:
+        """``step_table`` of the core: the dry table, or the wet branch at water depth ``d``
+        and log10 drainage time ``lt`` for the temperature rows of ``T0``."""
+        w, t = self.wet, self.t
+        if w is None or not d > 0.0:
+            return t
+        iT, _ = t.locate(1, T0)
+        if self.wkey == (d, lt, iT):
+            return self.scratch
+        i_d, fd = _locate_arr(w.depth, d)
+        it, ft = _locate_arr(w.log10_t, lt)
+        nv, nT, n_p = t.n
+        nn = nv * nT * n_p
+        b00 = (i_d * len(w.log10_t) + it) * nn
+        b01 = b00 + nn
+        b10 = b00 + len(w.log10_t) * nn
+        b11 = b10 + nn
+        m0 = i_d * nn * 4
+        m1 = m0 + nn * 4
+        W, M, val = w.w, w.mu, self.scratch.val
+        for j in range(nv):
+            for r in range(iT, iT + 2):
+                for q in range(n_p):
+                    node = (j * nT + r) * n_p + q
+                    ws = ((1.0 - fd) * ((1.0 - ft) * W[b00 + node] + ft * W[b01 + node])
+                          + fd * ((1.0 - ft) * W[b10 + node] + ft * W[b11 + node]))
+                    if not ws > 0.0:
+                        ws = 0.0
+                    if ws > 1.0:
+                        ws = 1.0
+                    a0 = m0 + node * 4
+                    a1 = m1 + node * 4
+                    c0 = (1.0 - fd) * M[a0] + fd * M[a1]
+                    c1 = (1.0 - fd) * M[a0 + 1] + fd * M[a1 + 1]
+                    h0 = (1.0 - fd) * M[a0 + 2] + fd * M[a1 + 2]
+                    h1 = (1.0 - fd) * M[a0 + 3] + fd * M[a1 + 3]
+                    val[node * 3] = (1.0 - ws) * c0 + ws * c1
+                    val[node * 3 + 1] = (1.0 - ws) * h0 + ws * h1
+        self.scratch.bounds(iT * n_p, (iT + 2) * n_p)
+        self.wkey = (d, lt, iT)
+        return self.scratch
 
     def set_rolling(self, rr: RefTable | None) -> None:
         """Rolling resistance table (``tf_tire_set_rolling``): axes (log10 |V_r|, T_tread,
@@ -898,7 +1002,8 @@ class RefTire:
             s2 += x * (x * (kdy * ry))
         return jx, jy, s1, s2
 
-    def _advance(self, h, Vsx, Vsy, V_r, Fz, a, b, Ts, mus, wc, q_roll) -> list[float]:
+    def _advance(self, h, Vsx, Vsy, V_r, Fz, a, b, Ts, mus, wc, q_roll, d_water,
+                 lt_drain) -> list[float]:
         p = self.p
         dx, L = self.dx, self.L
         x_top = self.x_top - V_r * h
@@ -960,7 +1065,8 @@ class RefTire:
                 self.T_tread = (self.T_tread + h / p.heat_capacity * (p.conductance * Ts)) / (
                     1.0 + h * p.conductance / p.heat_capacity)
             return [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
-        c = Ctx(p, self.t, T0, Fz, a, b, cf, Fz / (area * wsum), mus, Vsx, Vsy, V_r)
+        c = Ctx(p, self._step_table(T0, d_water, lt_drain), T0, Fz, a, b, cf,
+                Fz / (area * wsum), mus, Vsx, Vsy, V_r)
         Vbx, Vby, wpsi = Vsx, Vsy, 0.0
         if not p.rigid:
             # belt translation and yaw, linearly implicit (docs/tire-core.md, "belt"): the
@@ -1054,7 +1160,7 @@ class RefTire:
                 Jy * area, Jm * area]
 
     def step(self, dt: float, vx: float, vy: float, omega: float, Fz: float, Ts: float,
-             mus: float, gamma: float = 0.0) -> list[float]:
+             mus: float, gamma: float = 0.0, d_water: float = 0.0) -> list[float]:
         """Advance by ``dt`` [s] (``tf_tire_step``); inputs must be valid."""
         p = self.p
         if math.isnan(self.T_tread):
@@ -1068,7 +1174,24 @@ class RefTire:
             if Fz < 0.0:
                 Fz = 0.0
             V_r = omega * p.R_e
-            a, b = patch_size(p, Fz)
+            # water: dynamic hydroplaning lifts the share L of the load off the road; the
+            # tread carries Fz_road = (1 - L) Fz
+            Fz_road, lt_drain = Fz, 0.0
+            wet = self.wet if d_water > 0.0 else None
+            if wet is not None:
+                Vp = 6.35 * math.sqrt(p.p_inflation / 1e3) / 3.6
+                de = d_water - (p.void_ratio * p.tread_depth + self.texture_depth)
+                sd = de / wet.d_full if de > 0.0 else 0.0
+                if sd > 1.0:
+                    sd = 1.0
+                rv = (vx / Vp) * (vx / Vp)
+                if rv > 1.0:
+                    rv = 1.0
+                Fz_road = (1.0 - sd * rv) * Fz
+            a, b = patch_size(p, Fz_road)
+            if wet is not None and a > 0.0:   # drainage time: drain_scale t_footprint
+                lt_drain = (math.log10(wet.drain_scale * (2.0 * a / abs(V_r))) if V_r != 0.0
+                            else math.inf)
             # camber: the base spins at -(1 - eps) omega sin(gamma)
             wc = -(1.0 - p.camber_reduction) * omega * math.sin(gamma)
             # rolling resistance at the start of the step, held over it
@@ -1079,7 +1202,8 @@ class RefTire:
             fin = [0.0]
             Ix = Iy = Im = 0.0
             for _ in range(n_sub):
-                fin = self._advance(h, vx - V_r, vy, V_r, Fz, a, b, Ts, mus, wc, q_roll)
+                fin = self._advance(h, vx - V_r, vy, V_r, Fz_road, a, b, Ts, mus, wc, q_roll,
+                                    d_water, lt_drain)
                 Ix += fin[5]
                 Iy += fin[6]
                 Im += fin[7]

@@ -10,7 +10,7 @@ front of the footprint produces a lift F_h = (1/2) rho C_L V^2 A on the footprin
 and the footprint's mean contact pressure is about p_i (F_z = p_i A); V_p is where F_h = F_z.
 With rho = 1000 kg/m^3 the formula implies C_L = 2 p_i / (rho V_p^2) = 0.643.
 
-Model here (a pure function, not yet used by the tire core):
+Model here (this function, and the same formula in the transient tire core, ``tirecore.h``):
 
 * the share of the footprint load lifted by the water is
   lift = s(d) min(1, (V / V_p)^2), i.e. F_h / F_z with Horne's lift coefficient;
@@ -39,6 +39,9 @@ from lookup.errors import InputError
 #: Horne's constant [km/h per sqrt(kPa)] (NASA TN D-2056).
 HORNE_KMH_PER_SQRT_KPA = 6.35
 RHO_WATER = 1000.0  # kg/m^3
+#: Excess water depth [m] at which the wedge is fully developed (model assumption, module
+#: docstring); the tire core uses the same value.
+D_FULL = 2.5e-3
 
 
 def horne_speed(p_inflation: float) -> float:
@@ -55,7 +58,7 @@ def lift_coefficient() -> float:
 
 def lifted_share(V: np.ndarray, water_depth: np.ndarray, p_inflation: float,
                  tread_depth: float, groove_void_ratio: float = 0.3,
-                 texture_depth: float = 0.0, d_full: float = 2.5e-3) -> np.ndarray:
+                 texture_depth: float = 0.0, d_full: float = D_FULL) -> np.ndarray:
     """Share of the footprint load carried by water pressure (module docstring), in [0, 1].
 
     Parameters

@@ -215,6 +215,10 @@ class TreadParams:
     void_ratio : float
         Groove (void) fraction of the footprint [1]; the friction tables are read at the
         pressure on the rubber, ``p / (1 - void_ratio)``.
+    depth : float
+        Groove depth [m]: with the void ratio, the water the grooves hold under the footprint
+        (``void_ratio * depth`` per unit area), which sets the water depth at which dynamic
+        hydroplaning starts (:mod:`tire_brush.hydroplaning`).
     """
 
     k_x: float = _param(
@@ -235,6 +239,9 @@ class TreadParams:
     void_ratio: float = _param(
         "1", "dimensionless", "Groove (void) fraction of the footprint [1]", nonnegative=True,
         maximum=0.9)
+    depth: float = _param(
+        "m", "length", "Groove (tread) depth [m]: the grooves hold void_ratio * depth of water "
+        "(hydroplaning)", nonnegative=True, default=8e-3)
 
     def __post_init__(self) -> None:
         _raise(_validate(self))

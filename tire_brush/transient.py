@@ -54,8 +54,9 @@ import numpy as np
 from lookup.errors import InputError
 
 from . import ccore
-from .element import N_ELEM, STATE_HEAD, STATE_VERSION, RefTable, RefTire
+from .element import N_ELEM, STATE_HEAD, STATE_VERSION, RefTable, RefTire, RefWet
 from .friction import BranchTable, FrictionModel, as_table
+from .hydroplaning import D_FULL
 from .params import TireParams
 from .slip import V_FLOOR, BrushOutputs
 
@@ -68,7 +69,8 @@ DT_INTERNAL = 2.5e-4
 #: footprint pressure per sub-step; docs/tire-core.md).
 TOL = 1e-2
 #: Inputs of :meth:`TransientBrushTire.step`, in order, and the number types they accept.
-_INPUT_NAMES = ("dt", "vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma")
+_INPUT_NAMES = ("dt", "vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma",
+                "water_depth")
 #: Slice of the outputs in the state vector (docs/tire-core.md, "state").
 _OUT = slice(11, 11 + ccore.N_OUT)
 _NUMBER_TYPES = (int, float, np.floating, np.integer)
@@ -155,6 +157,92 @@ class TransientBrushTire:
         self.a_max, _ = params.patch.size(params.patch.Fz_max)
         self._state_size = STATE_HEAD + N_ELEM * self.n_lattice
         self.rolling = None
+        self.wet = None
+
+    def set_wet(self, wet: Any | None, *, texture_depth: float = 0.0,
+                d_full: float = D_FULL, drain_scale: float = 1.0) -> None:
+        """Give the tire the wet branch of its grid (or ``None``: every water depth is dry).
+
+        Parameters
+        ----------
+        wet
+            A :class:`lookup.grid.wet.WetGrid` on the nodes of this tire's friction table.
+        texture_depth
+            The road's mean texture depth [m]: water the texture holds below the tire
+            (hydroplaning starts above ``void_ratio * tread.depth + texture_depth``).
+        d_full
+            Excess depth [m] of full hydroplaning (:mod:`tire_brush.hydroplaning`).
+        drain_scale
+            ``(D / 2R)^2`` of the drainage time (:func:`tire_brush.wet_friction.drainage_time`;
+            1: the water leaves each macro-asperity contact over D / 2).
+
+        With water of depth ``d > 0`` (the step's ``water_depth``), the elements read
+        ``mu = (1 - w) mu_w0 + w mu_w1`` of the wet branch at ``d`` and at the drainage time
+        ``drain_scale * 2a / |V_r|`` (each element's time in the footprint), exact at the
+        grid's (v, T, p) nodes (:func:`tire_brush.wet_friction.wet_branch_table`), and the
+        water carries Horne's share of the load (:mod:`tire_brush.hydroplaning`).
+        """
+        if wet is None:
+            self.wet = None
+            if self.backend == "c":
+                self._lib.tf_tire_set_wet(self._h, None, 0.0)
+                self._cwet = None
+            else:
+                self._ref.set_wet(None)
+            return
+        t = self.table
+        for name, a, b in (("log10_v", t.log10_v, wet.axes["log10_v"]), ("T", t.T, wet.axes["T"]),
+                           ("log10_p", t.log10_p, wet.axes["log10_p"])):
+            if a.shape != b.shape or not np.allclose(a, b, rtol=0, atol=1e-9):
+                raise InputError("the wet branch has other nodes than the friction table",
+                                 field=name)
+        v = wet.variables
+        mu = np.stack([v["mu_wet_cold_w0"], v["mu_wet_cold_w1"], v["mu_wet_hot_w0"],
+                       v["mu_wet_hot_w1"]], axis=-1)
+        self.set_wet_arrays(wet.axes["water_depth"], wet.axes["log10_t_drain"], mu,
+                            v["w_dry"], texture_depth=texture_depth, d_full=d_full,
+                            drain_scale=drain_scale)
+        self.wet = wet
+
+    def set_wet_arrays(self, depth: Any, log10_t: Any, mu: Any, w_dry: Any, *,
+                       texture_depth: float, d_full: float, drain_scale: float) -> None:
+        """:meth:`set_wet` from the arrays of the wet branch on this tire's table nodes:
+        ``depth`` [m] (first 0), ``log10_t`` [log10 s], ``mu`` of shape (nd, nv, nT, np, 4)
+        (cold_w0, cold_w1, hot_w0, hot_w1) and ``w_dry`` (nd, nt, nv, nT, np)."""
+        t = self.table
+        depth = np.ascontiguousarray(depth, float)
+        lt = np.ascontiguousarray(log10_t, float)
+        mu = np.ascontiguousarray(mu, float)
+        w_dry = np.ascontiguousarray(w_dry, float)
+        nodes = (t.log10_v.size, t.T.size, t.log10_p.size)
+        if mu.shape != (depth.size, *nodes, 4) or w_dry.shape != (depth.size, lt.size, *nodes):
+            raise InputError("wet branch arrays do not match the friction table's nodes",
+                             field="wet", value={"mu": mu.shape, "w_dry": w_dry.shape})
+        for name, x, ok in (("texture_depth", texture_depth, texture_depth >= 0),
+                            ("d_full", d_full, d_full > 0),
+                            ("drain_scale", drain_scale, drain_scale > 0)):
+            if not (math.isfinite(x) and ok):
+                raise InputError("out of range", field=name, value=x)
+        if self.backend == "c":
+            mu = np.ascontiguousarray(mu, float)
+            handle = self._lib.tf_wet_new(t.log10_v.size, t.T.size, t.log10_p.size,
+                                          depth.size, lt.size,
+                                          ccore._ptr(depth), ccore._ptr(lt), ccore._ptr(mu),
+                                          ccore._ptr(w_dry), float(d_full),
+                                          float(drain_scale))
+            if not handle:
+                raise InputError("the tire core refused the wet branch (mu >= 0 and finite, "
+                                 "depth axis from 0)", field="wet")
+            cw = ccore.CoreWet(handle, self._lib)
+            if self._lib.tf_tire_set_wet(self._h, cw.handle,
+                                         float(texture_depth)) != 0:  # pragma: no cover
+                raise InputError("the tire core refused the wet branch", field="wet")
+            self._cwet = cw                     # the core holds a pointer: keep it alive
+        else:
+            self._ref.set_wet(RefWet(self._ref.t.n, depth.tolist(), lt.tolist(),
+                                     mu.reshape(-1).tolist(), w_dry.reshape(-1).tolist(),
+                                     d_full, drain_scale), float(texture_depth))
+        self.wet = True
 
     def set_rolling(self, table: Any | None) -> None:
         """Give the tire a rolling-resistance table (or ``None`` to remove it).
@@ -282,7 +370,8 @@ class TransientBrushTire:
 
     # -- stepping ---------------------------------------------------------------------------
     def step(self, dt: float, vx: float, vy: float, omega: float, Fz: float, T_surface: float,
-             mu_scale: float = 1.0, gamma: float = 0.0) -> BrushOutputs:
+             mu_scale: float = 1.0, gamma: float = 0.0,
+             water_depth: float = 0.0) -> BrushOutputs:
         """Advance by ``dt`` [s] with inputs held over the step.
 
         Parameters
@@ -305,6 +394,9 @@ class TransientBrushTire:
             Inclination (camber) angle [rad], ``|gamma| < pi/2`` (docs/axes.md: the same sign
             in every axis system): the base of the tread spins at ``-(1 - eps) omega
             sin(gamma)`` (:class:`~tire_brush.params.CarcassParams`).
+        water_depth
+            Water film depth on the road [m] (>= 0; 0: dry), read through the wet branch
+            (:meth:`set_wet`; without one the road is dry whatever the depth).
 
         Returns
         -------
@@ -312,33 +404,37 @@ class TransientBrushTire:
             Forces and diagnostics at the end of the step.
         """
         return BrushOutputs(*self.step_array(dt, vx, vy, omega, Fz, T_surface, mu_scale,
-                                             gamma))
+                                             gamma, water_depth))
 
     def step_array(self, dt: float, vx: float, vy: float, omega: float, Fz: float,
-                   T_surface: float, mu_scale: float = 1.0,
-                   gamma: float = 0.0) -> list[float]:
+                   T_surface: float, mu_scale: float = 1.0, gamma: float = 0.0,
+                   water_depth: float = 0.0) -> list[float]:
         """:meth:`step` returning the outputs as a list in
         :data:`~tire_brush.slip.OUTPUT_UNITS` order (no dataclass: the FMU's fast path)."""
-        vals = (dt, vx, vy, omega, Fz, T_surface, mu_scale, gamma)
+        vals = (dt, vx, vy, omega, Fz, T_surface, mu_scale, gamma, water_depth)
         if not (type(dt) is float and type(vx) is float and type(vy) is float and
                 type(omega) is float and type(Fz) is float and type(T_surface) is float and
                 type(mu_scale) is float and type(gamma) is float and
-                math.isfinite(dt + vx + vy + omega + Fz + T_surface + mu_scale + gamma)):
+                type(water_depth) is float and
+                math.isfinite(dt + vx + vy + omega + Fz + T_surface + mu_scale + gamma
+                              + water_depth)):
             for name, x in zip(_INPUT_NAMES, vals, strict=True):
                 if isinstance(x, bool) or not (isinstance(x, _NUMBER_TYPES) and
                                                math.isfinite(x)):
                     raise InputError("must be a finite number", field=name, value=x)
-        if dt < 0 or T_surface <= 0 or mu_scale < 0 or not abs(gamma) < 0.5 * math.pi:
-            raise InputError("need dt >= 0 s, T_surface > 0 K, mu_scale >= 0 and |gamma| < "
-                             "pi/2 rad", field="step",
+        if dt < 0 or T_surface <= 0 or mu_scale < 0 or not abs(gamma) < 0.5 * math.pi or \
+                water_depth < 0:
+            raise InputError("need dt >= 0 s, T_surface > 0 K, mu_scale >= 0, |gamma| < "
+                             "pi/2 rad and water_depth >= 0 m", field="step",
                              value={"dt": dt, "T_surface": T_surface, "mu_scale": mu_scale,
-                                    "gamma": gamma})
+                                    "gamma": gamma, "water_depth": water_depth})
         if self.backend == "reference":
             return self._ref.step(float(dt), float(vx), float(vy), float(omega), float(Fz),
-                                  float(T_surface), float(mu_scale), float(gamma))
+                                  float(T_surface), float(mu_scale), float(gamma),
+                                  float(water_depth))
         i = self._in
-        i[0], i[1], i[2], i[3], i[4], i[5], i[6] = (vx, vy, omega, Fz, T_surface, mu_scale,
-                                                    gamma)
+        i[0], i[1], i[2], i[3], i[4], i[5], i[6], i[7] = (vx, vy, omega, Fz, T_surface,
+                                                          mu_scale, gamma, water_depth)
         if self._step(self._h, float(dt), self._pin, self._pout) != 0:   # pragma: no cover
             raise InputError("the tire core refused the inputs", field="step",
                              value=dict(zip(_INPUT_NAMES, vals, strict=True)))

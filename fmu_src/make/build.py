@@ -48,8 +48,8 @@ from fmu_src.runtime.interface import (
     tire_to_dict,
     variables,
 )
-from fmu_src.runtime.slave import BUILD_FILE, CORE_DIR, DATA_DIR, ROLLING_FILE
-from fmu_src.runtime.table_file import table_bytes
+from fmu_src.runtime.slave import BUILD_FILE, CORE_DIR, DATA_DIR, ROLLING_FILE, WET_FILE
+from fmu_src.runtime.table_file import table_bytes, wet_bytes
 from lookup import __version__
 from lookup.errors import InputError, TirefricError
 from tire_brush.params import TireParams, load_tire
@@ -90,6 +90,9 @@ class BuildOptions:
     axes : int
         Axis system of vy, Fy, Mz and alpha (:data:`fmu_src.runtime.interface.OPTIONS`):
         0 adapted SAE (the brush's own), 1 ISO-W, 2 SAE.
+    texture_depth : float
+        The road's mean texture depth [m] (hydroplaning; 0: the texture holds no water, the
+        early bound).
     """
 
     n_elements: int = N_TRANSIENT
@@ -97,8 +100,13 @@ class BuildOptions:
     s0: float | None = None
     v_floor: float = V_FLOOR
     axes: int = 0
+    texture_depth: float = 0.0
 
     def __post_init__(self) -> None:
+        if not (isinstance(self.texture_depth, int | float) and
+                0 <= self.texture_depth < float("inf")):
+            raise InputError("must be a finite length >= 0 m", field="texture_depth",
+                             value=self.texture_depth)
         if isinstance(self.axes, bool) or self.axes not in (0, 1, 2):
             raise InputError("must be 0 (adapted SAE), 1 (ISO-W) or 2 (SAE)", field="axes",
                              value=self.axes)
@@ -282,6 +290,9 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
     rolling_bytes, rolling = _rolling_resource(tire, grid)
     if rolling_bytes:
         (data / ROLLING_FILE).write_bytes(rolling_bytes)
+    wet_data, wet = _wet_resource(grid)
+    if wet_data:
+        (data / WET_FILE).write_bytes(wet_data)
     s0 = float(grid.meta["s0_m"]) if options.s0 is None else float(options.s0)
     tire_d = tire_to_dict(tire)
     tire_d["file"] = Path(tire.source).name if tire.source else ""
@@ -303,12 +314,14 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
                  "npz_sha256": "sha256:" + hashlib.sha256(npz).hexdigest(),
                  "meta": _grid_provenance(grid)},
         "options": {"n_elements": options.n_elements, "dt_internal": options.dt_internal,
-                    "s0": s0, "v_floor": options.v_floor, "axes": options.axes},
+                    "s0": s0, "v_floor": options.v_floor, "axes": options.axes,
+                    "texture_depth": options.texture_depth},
         "limits": default_limits(tire),
         "rolling": rolling,
+        "wet": wet,
         "requirements": list(REQUIREMENTS),
     }
-    h = hashlib.sha256(_json_bytes(build) + npz + rolling_bytes)
+    h = hashlib.sha256(_json_bytes(build) + npz + rolling_bytes + wet_data)
     if runtime is not None:
         build["runtime"] = {"package": runtime.package, "slave_module": runtime.slave_module,
                             "code_hash": runtime.code_hash, "modules": runtime.modules}
@@ -339,6 +352,34 @@ def _rolling_resource(tire: TireParams, grid: Any) -> tuple[bytes, dict[str, Any
     return data, {"file": ROLLING_FILE, "sha256": "sha256:" + hashlib.sha256(data).hexdigest(),
                   "compound": table.compound,
                   "model": "tire_brush.rolling_resistance (docs/rolling.md)"}
+
+
+def _wet_resource(grid: Any) -> tuple[bytes, dict[str, Any]]:
+    """The wet branch of the grid's file for the FMU (empty bytes when it has none: every
+    water depth is then a dry road, input_status bit 512) and its entry in build.json."""
+    import numpy as np
+
+    from lookup.errors import GridError
+    from lookup.grid.wet import load_wet
+    from tire_brush.hydroplaning import D_FULL
+
+    src = Path(str(getattr(grid, "source", "")))
+    if src.suffix != ".nc" or not src.is_file():
+        return b"", {"file": None, "why": "the grid was not read from a grid file (no wet "
+                                          "branch)"}
+    try:
+        w = load_wet(src)
+    except GridError as exc:
+        return b"", {"file": None, "why": str(exc)}
+    if any(w.axes[n].shape != np.shape(grid.axes[n]) or
+           not np.allclose(w.axes[n], grid.axes[n], rtol=0, atol=1e-9)
+           for n in ("log10_v", "T", "log10_p")):
+        return b"", {"file": None, "why": "the wet branch has other nodes than the grid"}
+    data = wet_bytes(w, D_FULL)
+    return data, {"file": WET_FILE, "sha256": "sha256:" + hashlib.sha256(data).hexdigest(),
+                  "wet_hash": w.meta.get("hash"), "water_depth_m": w.axes["water_depth"].tolist(),
+                  "d_full_m": D_FULL, "drain_scale": 1.0,
+                  "model": "lookup.grid.wet, tire_brush.hydroplaning (docs/tire-core.md)"}
 
 
 def guid_of(build_id: str) -> str:

@@ -76,6 +76,8 @@ NATIVE_DIR = Path(__file__).parents[1] / "runtime" / "native"
 TABLE_FILE = "tirefric-table.bin"
 #: Rolling-resistance table resource (same format; present when the build has one).
 ROLLING_TABLE_FILE = "tirefric-rolling.bin"
+#: Wet-branch resource (:func:`fmu_src.runtime.table_file.wet_bytes`; when the grid has one).
+WET_TABLE_FILE = "tirefric-wet.bin"
 #: Compiler flags (those of the core's own build: C99, no contraction, no fast-math, so the
 #: native FMU rounds as the Python model's core does).
 CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math", "-shared")
@@ -153,7 +155,8 @@ def _param_assignments(index: dict[str, int]) -> list[str]:
     return lines
 
 
-def config_header(vars_: list[Variable], guid: str, rolling: bool = False) -> str:
+def config_header(vars_: list[Variable], guid: str, rolling: bool = False,
+                  wet: bool = False) -> str:
     """``tfn_config.h``: GUID, variable table (start values, bounds), value references of the
     variables the wrapper uses by name, and the parameter mapping onto ``tf_params``."""
     index = {v.name: i for i, v in enumerate(vars_)}
@@ -193,7 +196,8 @@ def config_header(vars_: list[Variable], guid: str, rolling: bool = False) -> st
              "R_E": index["tire.R_e"], "FZ_NOM": index["tire.Fz_nom"],
              "FZ_MAX": index["tire.patch.Fz_max"], "N_ELEMENTS": index["n_elements"],
              "DT_INTERNAL": index["dt_internal"], "S0": index["s0"],
-             "V_FLOOR": index["v_floor"], "AXES": index["axes"]}
+             "V_FLOOR": index["v_floor"], "AXES": index["axes"],
+             "TEXTURE_DEPTH": index["texture_depth"]}
     named |= {"LIMIT_" + k[6:].upper(): index[k] for k in LIMITS}
     defines = [f"#define TFN_VR_{k} {i}" for k, i in named.items()]
     return "\n".join([
@@ -205,6 +209,8 @@ def config_header(vars_: list[Variable], guid: str, rolling: bool = False) -> st
         f"#define TFN_TABLE_FILE {_c_string(TABLE_FILE)}",
         f"#define TFN_HAS_ROLLING {int(bool(rolling))}",
         f"#define TFN_ROLLING_FILE {_c_string(ROLLING_TABLE_FILE)}",
+        f"#define TFN_HAS_WET {int(bool(wet))}",
+        f"#define TFN_WET_FILE {_c_string(WET_TABLE_FILE)}",
         f"#define TFN_TOL {_c_double(TOL)}",
         f"#define TFN_NV {len(vars_)}",
         "enum { TFN_REAL, TFN_INTEGER, TFN_BOOLEAN, TFN_STRING };",
@@ -310,13 +316,13 @@ def compile_binary(sources: Path, platform: str, cc: list[str], out_dir: Path) -
 
 
 def stage_sources(directory: Path, vars_: list[Variable], guid: str,
-                  rolling: bool = False) -> dict[str, bytes]:
+                  rolling: bool = False, wet: bool = False) -> dict[str, bytes]:
     """Write the C sources, the FMI headers and the generated ``tfn_config.h`` into
     ``directory``; returns them by name."""
     files = {"fmu_wrapper.c": (NATIVE_DIR / "fmu_wrapper.c").read_bytes(),
              "tirecore.c": (ccore.SOURCE_DIR / "tirecore.c").read_bytes(),
              "tirecore.h": (ccore.SOURCE_DIR / "tirecore.h").read_bytes(),
-             "tfn_config.h": config_header(vars_, guid, rolling).encode()}
+             "tfn_config.h": config_header(vars_, guid, rolling, wet).encode()}
     for h in ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"):
         files[h] = (NATIVE_DIR / "fmi2" / h).read_bytes()
     directory.mkdir(parents=True, exist_ok=True)
@@ -368,11 +374,13 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
                                 grid_source=grid_source)
         s0 = build["options"]["s0"]
         table = table_bytes(as_table(GridFriction(grid_o, s0=s0)))
-        rolling = b""
+        rolling = wet = b""
         if build["rolling"]["file"]:
             rolling = (stage / "resources" / DATA_DIR / build["rolling"]["file"]).read_bytes()
+        if build["wet"]["file"]:
+            wet = (stage / "resources" / DATA_DIR / build["wet"]["file"]).read_bytes()
         h = hashlib.sha256(b"tirefric-native-fmu\0" + build["build_id"].encode() + table
-                           + rolling)
+                           + rolling + wet)
         for name in (*C_SOURCES, "tirecore.h"):
             src = NATIVE_DIR / name if name == "fmu_wrapper.c" else ccore.SOURCE_DIR / name
             h.update(name.encode() + b"\0" + src.read_bytes())
@@ -390,7 +398,8 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
         info = {"info.tire": tire_p.name, "info.grid_hash": grid_o.hash,
                 "info.build_id": build_id}
         vars_ = variables(build["tire"], build["options"], build["limits"], info)
-        sources = stage_sources(stage / "sources", vars_, guid, rolling=bool(rolling))
+        sources = stage_sources(stage / "sources", vars_, guid, rolling=bool(rolling),
+                                wet=bool(wet))
         bins = {p: compile_binary(stage / "sources", p, found[p], Path(tmp) / "bin")
                 for p in wanted}
         build["native"]["platforms"] = sorted(bins)
@@ -402,6 +411,10 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
             build["rolling"]["file"] = None
             build["rolling"]["table"] = ROLLING_TABLE_FILE
             entries[f"resources/{ROLLING_TABLE_FILE}"] = rolling
+        if wet:
+            build["wet"]["file"] = None
+            build["wet"]["table"] = WET_TABLE_FILE
+            entries[f"resources/{WET_TABLE_FILE}"] = wet
         entries[f"resources/{DATA_DIR}/{BUILD_FILE}"] = _json_bytes(build)
         entries |= {f"sources/{n}": b for n, b in sources.items()}
         entries["documentation/host_example.c"] = (NATIVE_DIR / "host_example.c").read_bytes()

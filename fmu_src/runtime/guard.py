@@ -18,6 +18,10 @@ NaN or +-inf (any input)               its last finite value (start value at fir
 ``[limit.T_min, limit.T_max]``
 ``mu_scale < 0`` or ``> limit.mu_scale``  clamped into ``[0, limit.mu_scale]``         32
 ``|gamma| > limit.gamma``              clamped to the limit, sign kept                128
+``water_depth < 0`` or                 clamped into ``[0, limit.water_depth]``        256
+``> limit.water_depth``
+``water_depth > 0`` without a wet      0 (the FMU's grid has no wet branch: dry)      512
+branch
 =====================================  ===========================================  =====
 
 The bits of a step add up to the FMU output ``input_status``. Each condition is reported once
@@ -36,9 +40,9 @@ from typing import Any
 from fmu_src.runtime.interface import STATUS_BITS
 
 #: Input names in the order the guard takes them.
-NAMES = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma")
+NAMES = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma", "water_depth")
 #: Units of the inputs (for messages).
-_UNITS = ("m/s", "m/s", "rad/s", "N", "K", "", "rad")
+_UNITS = ("m/s", "m/s", "rad/s", "N", "K", "", "rad", "m")
 
 #: FMI status codes used for messages (fmi2OK, fmi2Warning).
 OK, WARNING = 0, 1
@@ -54,9 +58,12 @@ class InputGuard:
     start
         Start values of the inputs (the substitute for a non-finite input before any finite
         one has been seen), in :data:`NAMES` order.
+    wet
+        Whether the model has a wet branch (else water on the road is taken as 0, bit 512).
     """
 
-    def __init__(self, limits: dict[str, float], start: list[float]) -> None:
+    def __init__(self, limits: dict[str, float], start: list[float], wet: bool = False) -> None:
+        self.wet = bool(wet)
         self.v_max = float(limits["limit.v"])
         self.omega_max = float(limits["limit.omega"])
         self.Fz_max = float(limits["limit.Fz"])
@@ -64,6 +71,7 @@ class InputGuard:
         self.T_max = float(limits["limit.T_max"])
         self.mu_max = float(limits["limit.mu_scale"])
         self.gamma_max = float(limits["limit.gamma"])
+        self.water_max = float(limits["limit.water_depth"])
         if not self.gamma_max < 0.5 * math.pi:
             raise ValueError(f"input envelope: limit.gamma must be < pi/2 (got "
                              f"{self.gamma_max})")
@@ -128,6 +136,16 @@ class InputGuard:
             found["camber_clamped"] = (f"input gamma = {x[6]:g} rad is beyond the envelope "
                                        f"(limit.gamma = {self.gamma_max:g} rad): clamped")
             x[6] = math.copysign(self.gamma_max, x[6])
+        d = x[7]
+        if not 0.0 <= d <= self.water_max:
+            found["water_clamped"] = (f"input water_depth = {d:g} m is outside [0, "
+                                      f"{self.water_max:g}] m: clamped")
+            x[7] = min(max(d, 0.0), self.water_max)
+        if x[7] > 0.0 and not self.wet:
+            found["no_wet_branch"] = (f"input water_depth = {x[7]:g} m: this FMU's grid has "
+                                      f"no wet branch, the road is taken as dry (build the "
+                                      f"FMU with a grid that has one, e.g. r117_wet)")
+            x[7] = 0.0
         if not found and not self.active:
             return x, 0, []
         return x, self._status(found), self._messages(found)

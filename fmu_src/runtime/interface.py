@@ -83,6 +83,8 @@ STATUS_BITS: dict[str, int] = {
     "mu_scale_clamped": 32,     # mu_scale < 0 or > limit.mu_scale: clamped
     "model_reset": 64,     # the model failed in this step and was reset to rest
     "camber_clamped": 128,  # |gamma| > limit.gamma: clamped
+    "water_clamped": 256,   # water_depth < 0 or > limit.water_depth: clamped
+    "no_wet_branch": 512,   # water_depth > 0 but the FMU's grid has no wet branch: dry road
 }
 
 
@@ -132,6 +134,8 @@ INPUTS: tuple[tuple[str, str, float | None, str], ...] = (
     ("gamma", "rad", 0.0, "Inclination (camber) angle of the wheel plane [rad]: a rotation "
                           "about x, top of the wheel to the right positive, the same sign in "
                           "every axis system (docs/axes.md)"),
+    ("water_depth", "m", 0.0, "Water film depth on the road [m] (0 = dry), read through the "
+                              "wet branch of the FMU's grid, with dynamic hydroplaning"),
 )
 
 #: Outputs in order (the :class:`tire_brush.slip.BrushOutputs` fields): name, unit,
@@ -184,6 +188,9 @@ OPTIONS: dict[str, tuple[str, str | None, str]] = {
                               "adapted SAE (alpha > 0 gives Fy > 0, Mz < 0), 1 ISO-W (ISO 8855 "
                               "wheel axes, TYDEX W: y left, z up), 2 SAE J670 (y right, z "
                               "down); Fx, kappa and the load keep their sign in all three"),
+    "texture_depth": ("Real", "m", "Mean texture depth of the road [m]: the water it holds "
+                                   "below the tire, which does not lift the tire "
+                                   "(hydroplaning; used with water_depth > 0)"),
 }
 
 #: The axis systems of the ``axes`` option, by value.
@@ -219,6 +226,8 @@ LIMITS: dict[str, tuple[str, str]] = {
     "limit.mu_scale": ("1", "Largest mu_scale passed to the model [1] (input_status bit 32)"),
     "limit.gamma": ("rad", "Largest |gamma| passed to the model [rad]; larger inputs are "
                            "clamped (input_status bit 128)"),
+    "limit.water_depth": ("m", "Largest water_depth passed to the model [m]; larger and "
+                               "negative inputs are clamped (input_status bit 256)"),
 }
 
 #: Constant strings that name what the FMU was built from.
@@ -234,20 +243,20 @@ INITIAL_DEPENDENCIES: dict[str, tuple[str, ...]] = {
     "kappa": ("vx", "omega", "tire.R_e", "v_floor", "limit.v", "limit.omega"),
     "alpha": ("vx", "vy", "v_floor", "limit.v", "axes"),
     "T_tread": ("T_surface", "limit.T_min", "limit.T_max"),
-    "input_status": ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma", "limit.v",
-                     "limit.omega", "limit.Fz", "limit.T_min", "limit.T_max",
-                     "limit.mu_scale", "limit.gamma"),
+    "input_status": ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma",
+                     "water_depth", "limit.v", "limit.omega", "limit.Fz", "limit.T_min",
+                     "limit.T_max", "limit.mu_scale", "limit.gamma", "limit.water_depth"),
 }
 
 
 def default_limits(tire: TireParams) -> dict[str, float]:
     """Start values of the input envelope [SI]: 150 m/s, 1000 rad/s (rim speed ~ 300 m/s),
     five times the patch law's Fz_max, 200..500 K, mu_scale <= 5 and |gamma| <= 0.5 rad (29
-    deg; the model refuses pi/2). They keep the model in a range where every number stays
-    finite; they are not physical limits of a tire."""
+    deg; the model refuses pi/2) and water up to 0.1 m. They keep the model in a range where
+    every number stays finite; they are not physical limits of a tire."""
     return {"limit.v": 150.0, "limit.omega": 1000.0, "limit.Fz": 5.0 * tire.patch.Fz_max,
             "limit.T_min": 200.0, "limit.T_max": 500.0, "limit.mu_scale": 5.0,
-            "limit.gamma": 0.5}
+            "limit.gamma": 0.5, "limit.water_depth": 0.1}
 
 
 # -- tire parameters as flat FMI parameters ---------------------------------------------------

@@ -73,7 +73,7 @@ try:
         tire_from_parameters,
         variables,
     )
-    from fmu_src.runtime.table_file import read_table_bytes
+    from fmu_src.runtime.table_file import read_table_bytes, read_wet_bytes
     from lookup.grid.reader import FrictionGrid
     from tire_brush import ccore
     from tire_brush.friction import GridFriction
@@ -95,6 +95,9 @@ BUILD_FILE = "build.json"
 #: Name of the rolling-resistance table inside :data:`DATA_DIR` (when the build has one;
 #: format of :mod:`fmu_src.runtime.table_file`).
 ROLLING_FILE = "rolling.bin"
+#: Name of the wet branch inside :data:`DATA_DIR` (when the grid has one;
+#: :func:`fmu_src.runtime.table_file.wet_bytes`).
+WET_FILE = "wet.bin"
 #: Tag of the FMU state.
 STATE_FORMAT = "tirefric-brush-tire-fmu-state"
 #: Tag of a state blob that failed its checks (:meth:`BrushTireSlave._fmu_state_from_bytes`).
@@ -129,6 +132,26 @@ def _read_rolling(data_dir: Path, spec: dict[str, Any]) -> Any:
     t = read_table_bytes(data)
     return SimpleNamespace(log10_v=t["log10_v"], T=t["T"], log10_Fz=t["log10_p"],
                            f_r=t["values"][..., 0], tread_share=t["values"][..., 1])
+
+
+def _read_wet(data_dir: Path, spec: dict[str, Any]) -> dict[str, Any] | None:
+    """The build's wet branch (``spec`` from build.json) as the arrays of
+    :func:`fmu_src.runtime.table_file.read_wet_bytes`, or None.
+
+    Raises
+    ------
+    ValueError
+        The file is missing, corrupt or not the one the build recorded.
+    """
+    import hashlib
+
+    if not spec.get("file"):
+        return None
+    path = data_dir / spec["file"]
+    data = path.read_bytes()
+    if "sha256:" + hashlib.sha256(data).hexdigest() != spec.get("sha256"):
+        raise ValueError(f"{path}: not the wet branch of this build")
+    return read_wet_bytes(data)
 
 
 def read_build(resources: str | Path) -> dict[str, Any]:
@@ -177,6 +200,7 @@ class BrushTireSlave(Fmi2Slave):
         self._grid = FrictionGrid.load_npz(grid_path)
         self._rolling = _read_rolling(Path(self.resources) / DATA_DIR,
                                       build.get("rolling") or {})
+        self._wet = _read_wet(Path(self.resources) / DATA_DIR, build.get("wet") or {})
         if self._grid.hash != build["grid"]["hash"]:
             raise ValueError(f"{grid_path}: grid hash {self._grid.hash} differs from the build's "
                              f"{build['grid']['hash']}")
@@ -310,7 +334,13 @@ class BrushTireSlave(Fmi2Slave):
                                          v_floor=float(p["v_floor"]))
         if self._rolling is not None:
             self._model.set_rolling(self._rolling)
-        self._guard = InputGuard({k: float(p[k]) for k in LIMITS}, self._u_start)
+        if self._wet is not None:
+            w = self._wet
+            self._model.set_wet_arrays(w["depth"], w["log10_t"], w["mu"], w["w_dry"],
+                                       texture_depth=float(p["texture_depth"]),
+                                       d_full=w["d_full"], drain_scale=w["drain_scale"])
+        self._guard = InputGuard({k: float(p[k]) for k in LIMITS}, self._u_start,
+                                 wet=self._wet is not None)
         axes = p["axes"]
         if isinstance(axes, float) and axes.is_integer():
             axes = int(axes)

@@ -51,11 +51,39 @@ struct tf_tire {
     double psi, wpsi, M;   /* belt yaw [rad], its rate [rad/s], tread moment on the belt [N m] */
     double wc;             /* spin of the base from camber in the last step [rad/s] */
     const tf_table *rr;    /* rolling resistance (tf_tire_set_rolling), or NULL */
+    const tf_wet *wet;     /* wet branch (tf_tire_set_wet), or NULL */
+    double texture_depth;  /* the road's mean texture depth [m] */
+    tf_table scratch;      /* the friction of the current water depth and drainage time: the
+                              dry table's axes, its own values and bounds (rows wkey[2] and the
+                              next temperature row are valid) */
+    double wkey[3];        /* water depth, log10 t_drain, temperature row of the scratch */
+    int wvalid;
     double out[TF_NOUT];
     double work;
 };
 
 /* ---------------------------------------------------------------- table ---------------- */
+
+/* The node-walk bounds smax, pmin of the (T, p) columns k0 <= k < k1 from the values. */
+static void table_bounds(tf_table *t, size_t k0, size_t k1) {
+    int nv = t->n[0];
+    size_t ntp = (size_t)t->n[1] * t->n[2];
+    const double *values = t->val;
+    for (size_t k = k0; k < k1; k++) {
+        for (int j = nv - 1; j >= 0; j--) {
+            const double *v = values + ((size_t)j * ntp + k) * 3;
+            double hi = v[0] > v[1] ? v[0] : v[1];
+            if (j < nv - 1 && t->smax[(j + 1) * ntp + k] > hi) hi = t->smax[(j + 1) * ntp + k];
+            t->smax[j * ntp + k] = hi;
+        }
+        for (int j = 0; j < nv; j++) {
+            const double *v = values + ((size_t)j * ntp + k) * 3;
+            double lo = v[0] < v[1] ? v[0] : v[1];
+            if (j > 0 && t->pmin[(j - 1) * ntp + k] < lo) lo = t->pmin[(j - 1) * ntp + k];
+            t->pmin[j * ntp + k] = lo;
+        }
+    }
+}
 
 static int axis_ok(int n, const double *a) {
     if (n < 2) return 0;
@@ -105,20 +133,7 @@ tf_table *tf_table_new(int nv, int nT, int np, const double *log10_v, const doub
         t->smax = malloc(sizeof(double) * nv * ntp);
         t->pmin = malloc(sizeof(double) * nv * ntp);
         if (!t->smax || !t->pmin) { tf_table_free(t); return NULL; }
-        for (size_t k = 0; k < ntp; k++) {
-            for (int j = nv - 1; j >= 0; j--) {
-                const double *v = values + ((size_t)j * ntp + k) * 3;
-                double hi = v[0] > v[1] ? v[0] : v[1];
-                if (j < nv - 1 && t->smax[(j + 1) * ntp + k] > hi) hi = t->smax[(j + 1) * ntp + k];
-                t->smax[j * ntp + k] = hi;
-            }
-            for (int j = 0; j < nv; j++) {
-                const double *v = values + ((size_t)j * ntp + k) * 3;
-                double lo = v[0] < v[1] ? v[0] : v[1];
-                if (j > 0 && t->pmin[(j - 1) * ntp + k] < lo) lo = t->pmin[(j - 1) * ntp + k];
-                t->pmin[j * ntp + k] = lo;
-            }
-        }
+        table_bounds(t, 0, ntp);
     }
     for (int j = 0; j < nv; j++) {
         t->vnode[j] = pow(10.0, log10_v[j]);
@@ -136,6 +151,74 @@ void tf_table_free(tf_table *t) {
     free(t->smax);
     free(t->pmin);
     free(t);
+}
+
+/* ---------------------------------------------------------------- wet branch ----------- */
+
+struct tf_wet {
+    int n[3];         /* nodes of the friction table: nv, nT, np */
+    int nd, nt;
+    double *depth, *log10_t;
+    double *mu;       /* (nd, nv, nT, np, 4): cold_w0, cold_w1, hot_w0, hot_w1 */
+    double *w;        /* (nd, nt, nv, nT, np): dry share */
+    double d_full, drain_scale;
+};
+
+void tf_wet_free(tf_wet *w) {
+    if (!w) return;
+    free(w->depth);
+    free(w->log10_t);
+    free(w->mu);
+    free(w->w);
+    free(w);
+}
+
+tf_wet *tf_wet_new(int nv, int nT, int np, int nd, int nt, const double *depth,
+                   const double *log10_t, const double *mu, const double *w_dry,
+                   double d_full, double drain_scale) {
+    if (nv < 2 || nT < 2 || np < 2 || !axis_ok(nd, depth) || depth[0] != 0.0 ||
+        !axis_ok(nt, log10_t))
+        return NULL;
+    if (!(isfinite(d_full) && d_full > 0.0) || !(isfinite(drain_scale) && drain_scale > 0.0))
+        return NULL;
+    size_t nn = (size_t)nv * nT * np;
+    size_t nmu = (size_t)nd * nn * 4, nw = (size_t)nd * nt * nn;
+    for (size_t i = 0; i < nmu; i++)
+        if (!(isfinite(mu[i]) && mu[i] >= 0.0)) return NULL;
+    for (size_t i = 0; i < nw; i++)
+        if (!isfinite(w_dry[i])) return NULL;
+    tf_wet *w = calloc(1, sizeof *w);
+    if (!w) return NULL;
+    w->n[0] = nv;
+    w->n[1] = nT;
+    w->n[2] = np;
+    w->nd = nd;
+    w->nt = nt;
+    w->depth = malloc(sizeof(double) * nd);
+    w->log10_t = malloc(sizeof(double) * nt);
+    w->mu = malloc(sizeof(double) * nmu);
+    w->w = malloc(sizeof(double) * nw);
+    if (!w->depth || !w->log10_t || !w->mu || !w->w) { tf_wet_free(w); return NULL; }
+    memcpy(w->depth, depth, sizeof(double) * nd);
+    memcpy(w->log10_t, log10_t, sizeof(double) * nt);
+    memcpy(w->mu, mu, sizeof(double) * nmu);
+    memcpy(w->w, w_dry, sizeof(double) * nw);
+    w->d_full = d_full;
+    w->drain_scale = drain_scale;
+    return w;
+}
+
+/* Cell index and fraction of x on an ascending axis a[n], clamped (a NaN-free x). */
+static void locate_arr(int n, const double *a, double x, int *i, double *f) {
+    if (!(x > a[0])) { *i = 0; *f = 0.0; return; }
+    if (!(x < a[n - 1])) { *i = n - 2; *f = 1.0; return; }
+    int lo = 0, hi = n - 1;
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (a[mid] <= x) lo = mid; else hi = mid;
+    }
+    *i = lo;
+    *f = (x - a[lo]) / (a[lo + 1] - a[lo]);
 }
 
 /* |(x, y)| as sqrt(x^2 + y^2): libm's hypot and Python's math.hypot round differently, and
@@ -866,6 +949,9 @@ tf_tire *tf_tire_new(const tf_params *p, const tf_table *t) {
 
 void tf_tire_free(tf_tire *tire) {
     if (!tire) return;
+    free(tire->scratch.val);
+    free(tire->scratch.smax);
+    free(tire->scratch.pmin);
     free(tire->el);
     free(tire);
 }
@@ -886,6 +972,83 @@ int tf_tire_set_rolling(tf_tire *tire, const tf_table *rr) {
     if (!tire) return -1;
     tire->rr = rr;
     return 0;
+}
+
+int tf_tire_set_wet(tf_tire *tire, const tf_wet *w, double texture_depth) {
+    if (!tire || !(isfinite(texture_depth) && texture_depth >= 0.0)) return -1;
+    if (w && (w->n[0] != tire->t->n[0] || w->n[1] != tire->t->n[1] || w->n[2] != tire->t->n[2]))
+        return -1;
+    tire->wet = NULL;
+    tire->wvalid = 0;
+    if (!w) return 0;
+    const tf_table *t = tire->t;
+    size_t nn = (size_t)t->n[0] * t->n[1] * t->n[2];
+    if (!tire->scratch.val) {
+        tf_table s = *t;
+        s.val = malloc(sizeof(double) * nn * 3);
+        s.smax = malloc(sizeof(double) * nn);
+        s.pmin = malloc(sizeof(double) * nn);
+        if (!s.val || !s.smax || !s.pmin) {
+            free(s.val);
+            free(s.smax);
+            free(s.pmin);
+            return -1;
+        }
+        memcpy(s.val, t->val, sizeof(double) * nn * 3);
+        tire->scratch = s;
+    }
+    tire->wet = w;
+    tire->texture_depth = texture_depth;
+    return 0;
+}
+
+/* The friction table of one outer step: the dry table, or on water of depth d > 0 the wet
+ * branch at d and drainage time t_drain [s] (log10 lt), filled in for the temperature rows
+ * the step reads (those of the background temperature T0) and kept while d, lt and the rows
+ * stay the same. */
+static const tf_table *step_table(tf_tire *tire, double T0, double d, double lt) {
+    const tf_wet *w = tire->wet;
+    const tf_table *t = tire->t;
+    if (!w || !(d > 0.0)) return t;
+    int iT;
+    double fT;
+    locate(t, 1, T0, &iT, &fT);
+    if (tire->wvalid && tire->wkey[0] == d && tire->wkey[1] == lt && tire->wkey[2] == iT)
+        return &tire->scratch;
+    int id, it;
+    double fd, ft;
+    locate_arr(w->nd, w->depth, d, &id, &fd);
+    locate_arr(w->nt, w->log10_t, lt, &it, &ft);
+    int nv = t->n[0], nT = t->n[1], np = t->n[2];
+    size_t nn = (size_t)nv * nT * np;
+    const double *w00 = w->w + ((size_t)id * w->nt + it) * nn;
+    const double *w01 = w00 + nn, *w10 = w00 + (size_t)w->nt * nn, *w11 = w10 + nn;
+    const double *m0 = w->mu + (size_t)id * nn * 4, *m1 = m0 + nn * 4;
+    for (int j = 0; j < nv; j++) {
+        for (int r = iT; r <= iT + 1; r++) {
+            for (int q = 0; q < np; q++) {
+                size_t node = ((size_t)j * nT + r) * np + q;
+                double ws = (1.0 - fd) * ((1.0 - ft) * w00[node] + ft * w01[node]) +
+                            fd * ((1.0 - ft) * w10[node] + ft * w11[node]);
+                if (!(ws > 0.0)) ws = 0.0;
+                if (ws > 1.0) ws = 1.0;
+                const double *a0 = m0 + node * 4, *a1 = m1 + node * 4;
+                double c0 = (1.0 - fd) * a0[0] + fd * a1[0];
+                double c1 = (1.0 - fd) * a0[1] + fd * a1[1];
+                double h0 = (1.0 - fd) * a0[2] + fd * a1[2];
+                double h1 = (1.0 - fd) * a0[3] + fd * a1[3];
+                double *v = tire->scratch.val + node * 3;
+                v[0] = (1.0 - ws) * c0 + ws * c1;
+                v[1] = (1.0 - ws) * h0 + ws * h1;
+            }
+        }
+    }
+    table_bounds(&tire->scratch, (size_t)iT * np, (size_t)(iT + 2) * np);
+    tire->wkey[0] = d;
+    tire->wkey[1] = lt;
+    tire->wkey[2] = iT;
+    tire->wvalid = 1;
+    return &tire->scratch;
 }
 
 int tf_tire_lattice(const tf_tire *tire) { return tire->L; }
@@ -998,7 +1161,7 @@ static void tread_stiffness(const tf_tire *tire, const tf_ctx *c, double h, doub
 /* One outer step of length h (docs/tire-core.md, "outer step"). */
 static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r, double Fz,
                     double a, double b, double T_surface, double mu_scale, double wc,
-                    double q_roll, double *fin) {
+                    double q_roll, double d_water, double lt_drain, double *fin) {
     const tf_params *p = &tire->p;
     double dx = tire->dx;
     int L = tire->L;
@@ -1073,7 +1236,8 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
         return;
     }
     tf_ctx c;
-    ctx_init(&c, p, tire->t, T0, Fz, a, b, cf, Fz / (area * wsum), mu_scale, Vsx, Vsy, V_r);
+    ctx_init(&c, p, step_table(tire, T0, d_water, lt_drain), T0, Fz, a, b, cf,
+             Fz / (area * wsum), mu_scale, Vsx, Vsy, V_r);
     double Vbx = Vsx, Vby = Vsy, wpsi = 0.0;
     if (!p->rigid) {
         /* belt translation and yaw, linearly implicit (docs/tire-core.md, "belt"): the
@@ -1213,10 +1377,10 @@ static void rolling(const tf_table *rr, double vr, double T, double Fz, double *
 
 int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
     double vx = in[0], vy = in[1], omega = in[2], Fz = in[3], Ts = in[4], mus = in[5];
-    double gam = in[6];
+    double gam = in[6], d_water = in[7];
     if (!(isfinite(dt) && isfinite(vx) && isfinite(vy) && isfinite(omega) && isfinite(Fz) &&
-          isfinite(Ts) && isfinite(mus) && isfinite(gam)) || dt < 0.0 || !(Ts > 0.0) ||
-        mus < 0.0 || !(fabs(gam) < HALF_PI))
+          isfinite(Ts) && isfinite(mus) && isfinite(gam) && isfinite(d_water)) || dt < 0.0 ||
+        !(Ts > 0.0) || mus < 0.0 || !(fabs(gam) < HALF_PI) || d_water < 0.0)
         return -1;
     const tf_params *p = &tire->p;
     if (isnan(tire->T_tread)) tire->T_tread = Ts;
@@ -1228,8 +1392,23 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         double h = dt / n_sub;
         if (Fz < 0.0) Fz = 0.0;
         double V_r = omega * p->R_e;
+        /* water: dynamic hydroplaning lifts the share L of the load off the road (tirecore.h,
+         * tf_wet_new); the tread carries Fz_road = (1 - L) Fz */
+        double Fz_road = Fz, lt_drain = 0.0;
+        const tf_wet *wet = d_water > 0.0 ? tire->wet : NULL;
+        if (wet) {
+            double Vp = 6.35 * sqrt(p->p_inflation / 1e3) / 3.6;
+            double de = d_water - (p->void_ratio * p->tread_depth + tire->texture_depth);
+            double sd = de > 0.0 ? de / wet->d_full : 0.0;
+            if (sd > 1.0) sd = 1.0;
+            double rv = (vx / Vp) * (vx / Vp);
+            if (rv > 1.0) rv = 1.0;
+            Fz_road = (1.0 - sd * rv) * Fz;
+        }
         double a, b;
-        patch_size(p, Fz, &a, &b);
+        patch_size(p, Fz_road, &a, &b);
+        if (wet && a > 0.0)     /* drainage time: drain_scale times the time in the footprint */
+            lt_drain = V_r != 0.0 ? log10(wet->drain_scale * (2.0 * a / fabs(V_r))) : INFINITY;
         /* camber: the base spins at -(1 - eps) omega sin(gamma) (tirecore.h) */
         double wc = -(1.0 - p->camber_reduction) * omega * sin(gam);
         /* rolling resistance at the start of the step, held over it */
@@ -1240,7 +1419,8 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         double fin[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
         double Ix = 0.0, Iy = 0.0, Im = 0.0;
         for (int k = 0; k < n_sub; k++) {
-            advance(tire, h, vx - V_r, vy, V_r, Fz, a, b, Ts, mus, wc, q_roll, fin);
+            advance(tire, h, vx - V_r, vy, V_r, Fz_road, a, b, Ts, mus, wc, q_roll, d_water,
+                    lt_drain, fin);
             Ix += fin[5];
             Iy += fin[6];
             Im += fin[7];

@@ -31,8 +31,9 @@ extern "C" {
  * the element sub-steps stop at 10 ns), so outputs are continuous as the step -> 0. */
 #define TF_DT_FLOOR 1e-9
 /* Inputs of tf_tire_step, in order: vx, vy [m/s], omega [rad/s], Fz [N], T_surface [K],
- * mu_scale [1], gamma (inclination angle) [rad]. */
-#define TF_NIN 7
+ * mu_scale [1], gamma (inclination angle) [rad], water_depth [m] (0: dry; read through the
+ * wet branch, tf_tire_set_wet, and ignored without one). */
+#define TF_NIN 8
 /* Outputs of tf_tire_step, in order: Fx, Fy [N], Mz [N m], kappa [1], alpha [rad], mu_eff,
  * mu_slide, sliding_fraction [1], dT_flash_max [K], T_tread [K], Mx, My [N m] (overturning
  * moment of the belt's lateral deflection, rolling resistance moment; adapted SAE axes like
@@ -52,6 +53,7 @@ extern "C" {
 #define TF_STEADY_OUT 8
 
 typedef struct tf_table tf_table;
+typedef struct tf_wet tf_wet;
 typedef struct tf_tire tf_tire;
 
 /* Tire parameters, SI units (tire_brush/params.py documents each field). */
@@ -62,8 +64,8 @@ typedef struct {
      * (flat centre at most 1 - end_zone of the half-length, docs/tire-core.md) */
     double R0, width, C_z, q_ra1, q_ra2, q_rb1, q_rb2, Fz_max, p_inflation, p_nom, p_fz1,
         end_zone;
-    /* tread elements per unit area */
-    double k_x, k_y, mass, d_x, d_y, void_ratio;
+    /* tread elements per unit area; groove depth [m] (hydroplaning) */
+    double k_x, k_y, mass, d_x, d_y, void_ratio, tread_depth;
     /* belt on the rim */
     int rigid;
     double kc_x, kc_y, dc_x, dc_y;
@@ -89,6 +91,26 @@ TF_API tf_table *tf_table_new(int nv, int nT, int np, const double *log10_v, con
                               const double *log10_p, const double *values, double inv_s0);
 TF_API void tf_table_free(tf_table *t);
 
+/* Wet branch of a friction table (docs/tire-core.md, "wet road"): over the water depth
+ * (nd nodes, depth[0] = 0, dry) and log10 of the drainage time (nt nodes), on the nv x nT x np
+ * nodes of the friction table it is given to (tf_tire_set_wet; the axes and dT_flash are
+ * that table's):
+ * mu[(((id * nv + iv) * nT + iT) * np + ip) * 4 + k], k = cold and hot with the adhesive term
+ * off (w = 0) and on (w = 1): cold_w0, cold_w1, hot_w0, hot_w1 (all >= 0);
+ * w_dry[(((id * nt + it) * nv + iv) * nT + iT) * np + ip], the dry share of the real contact.
+ * Read: mu = (1 - w) mu_w0 + w mu_w1, w clipped to [0, 1], multilinear in (depth, log10 t)
+ * at the nodes. The drainage time of a tread element is drain_scale times its time in the
+ * footprint, 2a / |V_r| (drain_scale = (D / 2R)^2, 1 for draining over D / 2). Hydroplaning
+ * (Horne, NASA TN D-2056): the water carries the share s(d) min(1, (|vx| / V_p)^2) of the
+ * load, V_p = 6.35 sqrt(p_inflation / kPa) km/h, s rising linearly from 0 at the depth the
+ * grooves and the road's texture hold (void_ratio tread_depth + texture_depth,
+ * tf_tire_set_wet) to 1 d_full above.
+ * Copies the data; NULL on bad input. */
+TF_API tf_wet *tf_wet_new(int nv, int nT, int np, int nd, int nt, const double *depth,
+                          const double *log10_t, const double *mu, const double *w_dry,
+                          double d_full, double drain_scale);
+TF_API void tf_wet_free(tf_wet *w);
+
 /* A tire on a table (the table must outlive the tire). NULL on bad parameters. */
 TF_API tf_tire *tf_tire_new(const tf_params *p, const tf_table *t);
 TF_API void tf_tire_free(tf_tire *tire);
@@ -96,7 +118,8 @@ TF_API void tf_tire_free(tf_tire *tire);
 TF_API void tf_tire_reset(tf_tire *tire, double T_tread);
 /* Advance by dt [s] with the TF_NIN inputs held (dt < TF_DT_FLOOR: only the clock advances).
  * Writes TF_NOUT outputs. Returns 0, or -1 for inputs it refuses (non-finite, dt < 0,
- * T_surface <= 0, mu_scale < 0, |gamma| >= pi/2), leaving the state unchanged. */
+ * T_surface <= 0, mu_scale < 0, |gamma| >= pi/2, water_depth < 0), leaving the state
+ * unchanged. */
 TF_API int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out);
 /* Rolling resistance (optional; NULL removes it): a table on (log10 |V_r| [m/s], T_tread [K],
  * log10 Fz [N]) whose node values are (f_r, tread_share, unused): the coefficient F_r / Fz
@@ -104,6 +127,10 @@ TF_API int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out)
  * falling linearly to 0 below the first speed node (a viscoelastic solid's loss modulus is
  * linear in frequency at low frequency). The table must outlive the tire. Returns 0 or -1. */
 TF_API int tf_tire_set_rolling(tf_tire *tire, const tf_table *rr);
+/* Wet branch (or NULL: every water depth reads the dry table) and the road's mean texture
+ * depth [m] (the water it holds, hydroplaning); the branch must have the nodes of the tire's
+ * friction table and outlive the tire. Returns 0 or -1. */
+TF_API int tf_tire_set_wet(tf_tire *tire, const tf_wet *w, double texture_depth);
 /* Lattice size, doubles in the state, and the state itself (copy out / in). */
 TF_API int tf_tire_lattice(const tf_tire *tire);
 TF_API int tf_tire_state_size(const tf_tire *tire);

@@ -33,9 +33,10 @@
 #include "tirecore.h"
 #include "tfn_config.h"
 
-#define TFN_NIN 7
-/* guard conditions: nonfinite x6, speed x3, neg. load, load, T, mu, nonfinite gamma, camber */
-#define TFN_NGUARD 15
+#define TFN_NIN 8
+/* guard conditions: nonfinite x6, speed x3, neg. load, load, T, mu, nonfinite gamma, camber,
+ * nonfinite water, water clamped, no wet branch */
+#define TFN_NGUARD 18
 #define TFN_MAX_SUBSTEPS 100000.0
 #define TFN_TABLE_MAGIC "TIREFRIC-TABLE\0\0" /* 16 bytes */
 #define TFN_STATE_MAGIC "TFNSTATE"           /* 8 bytes */
@@ -43,17 +44,20 @@
 
 enum { PH_INSTANTIATED, PH_INIT, PH_STEP, PH_TERMINATED, PH_ERROR };
 
-static const int GUARD_BIT[TFN_NGUARD] = {1, 1, 1, 1, 1, 1, 4, 4, 4, 2, 8, 16, 32, 1, 128};
+static const int GUARD_BIT[TFN_NGUARD] = {1, 1, 1, 1, 1, 1, 4, 4, 4, 2, 8, 16, 32, 1, 128,
+                                          1, 256, 512};
 /* the input each condition concerns, and the condition "not finite" of each input */
-static const int GUARD_INPUT[TFN_NGUARD] = {0, 1, 2, 3, 4, 5, 0, 1, 2, 3, 3, 4, 5, 6, 6};
-static const int NONFINITE[TFN_NIN] = {0, 1, 2, 3, 4, 5, 13};
+static const int GUARD_INPUT[TFN_NGUARD] = {0, 1, 2, 3, 4, 5, 0, 1, 2, 3, 3, 4, 5, 6, 6,
+                                            7, 7, 7};
+static const int NONFINITE[TFN_NIN] = {0, 1, 2, 3, 4, 5, 13, 15};
 static const char *const IN_NAME[TFN_NIN] = {"vx", "vy", "omega", "Fz", "T_surface",
-                                             "mu_scale", "gamma"};
+                                             "mu_scale", "gamma", "water_depth"};
 static const char *const GUARD_NAME[TFN_NGUARD] = {
     "nonfinite:vx", "nonfinite:vy", "nonfinite:omega", "nonfinite:Fz", "nonfinite:T_surface",
     "nonfinite:mu_scale", "speed_clamped:vx", "speed_clamped:vy", "speed_clamped:omega",
     "negative_load", "load_clamped", "temperature_clamped", "mu_scale_clamped",
-    "nonfinite:gamma", "camber_clamped"};
+    "nonfinite:gamma", "camber_clamped", "nonfinite:water_depth", "water_clamped",
+    "no_wet_branch"};
 
 typedef struct {
     double v[TFN_NV];          /* values of every non-string variable, by value reference */
@@ -78,6 +82,7 @@ typedef struct {
     double *axes, *values;
     tf_table *table;
     tf_table *rr;              /* rolling-resistance table (NULL: none in this build) */
+    tf_wet *wet;               /* wet branch of the grid (NULL: none in this build) */
     tf_tire *tire;
     double built[TFN_NV];      /* values the tire was built from (parameters compared) */
     double *buf;               /* core state scratch */
@@ -227,6 +232,55 @@ static int load_table(comp *c, const char *path) {
     return 0;
 }
 
+/* The wet branch of the build (TFN_WET_FILE, fmu_src/runtime/table_file.py, wet_bytes), held
+ * by the instance: its (v, T, p) nodes are the friction table's. */
+static int load_wet(comp *c, const char *loc) {
+    char path[4200];
+    if (!TFN_HAS_WET) return 0;
+    if (resource_path(loc, TFN_WET_FILE, path, sizeof path) != 0) return -1;
+    FILE *f = fopen(path, "rb");
+    unsigned char *b = NULL;
+    long size;
+    if (!f) { logf_(c, fmi2Error, "cannot open the wet branch %s", path); return -1; }
+    if (fseek(f, 0, SEEK_END) != 0 || (size = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0 ||
+        !(b = malloc((size_t)size + 1)) || fread(b, 1, (size_t)size, f) != (size_t)size) {
+        fclose(f);
+        free(b);
+        logf_(c, fmi2Error, "cannot read the wet branch %s", path);
+        return -1;
+    }
+    fclose(f);
+    size_t n = (size_t)size;
+    if (n < 64 || memcmp(b, "TIREFRIC-WET\0\0\0\0", 16) != 0 || rd_u32(b + 16) != 1u) {
+        free(b);
+        logf_(c, fmi2Error, "%s is not a tirefric wet-branch file (version 1)", path);
+        return -1;
+    }
+    uint32_t nd = rd_u32(b + 20), nt = rd_u32(b + 24), nv = rd_u32(b + 28), nT = rd_u32(b + 32),
+             np = rd_u32(b + 36);
+    uint64_t nn = (uint64_t)nv * nT * np;
+    if (nd < 2 || nt < 2 || nd > 1000 || nt > 1000 || (int)nv != c->nv || (int)nT != c->nT ||
+        (int)np != c->np || n != 48 + 8 * (2 + nd + nt + 4 * nd * nn + (uint64_t)nd * nt * nn) ||
+        fnv1a(b, n - 8) != rd_u64(b + n - 8)) {
+        free(b);
+        logf_(c, fmi2Error, "%s: size, nodes or checksum mismatch (corrupt file)", path);
+        return -1;
+    }
+    size_t m = (n - 48) / 8;
+    double *a = malloc(sizeof(double) * m);
+    if (!a) { free(b); return -1; }
+    for (size_t i = 0; i < m; i++) a[i] = rd_f64(b + 40 + 8 * i);
+    free(b);
+    const double *depth = a + 2, *lt = depth + nd, *mu = lt + nt, *w = mu + 4 * nd * nn;
+    c->wet = tf_wet_new((int)nv, (int)nT, (int)np, (int)nd, (int)nt, depth, lt, mu, w, a[0], a[1]);
+    free(a);
+    if (!c->wet) {
+        logf_(c, fmi2Error, "the tire core refused the wet branch %s", path);
+        return -1;
+    }
+    return 0;
+}
+
 /* The rolling-resistance table of the build (TFN_ROLLING_FILE), held by the instance. */
 static int load_rolling(comp *c, const char *loc) {
     char path[4200];
@@ -325,6 +379,15 @@ static int make_core(comp *c, const double *v, tf_table **tab, tf_tire **tire) {
         return -1;
     }
     tf_tire_set_rolling(*tire, c->rr);
+    if (c->wet && tf_tire_set_wet(*tire, c->wet, v[TFN_VR_TEXTURE_DEPTH]) != 0) {
+        tf_tire_free(*tire);
+        tf_table_free(*tab);
+        *tire = NULL;
+        *tab = NULL;
+        logf_(c, fmi2Error, "the tire core refused the wet branch (texture_depth = %g m must be "
+              ">= 0)", v[TFN_VR_TEXTURE_DEPTH]);
+        return -1;
+    }
     return 0;
 }
 
@@ -349,6 +412,7 @@ static int guard_apply(comp *c, const double *u, double *x, const char *when) {
     double vmax = v[TFN_VR_LIMIT_V], wmax = v[TFN_VR_LIMIT_OMEGA], Fzmax = v[TFN_VR_LIMIT_FZ];
     double Tmin = v[TFN_VR_LIMIT_T_MIN], Tmax = v[TFN_VR_LIMIT_T_MAX];
     double mumax = v[TFN_VR_LIMIT_MU_SCALE], gmax = v[TFN_VR_LIMIT_GAMMA];
+    double dmax = v[TFN_VR_LIMIT_WATER_DEPTH];
     double raw[TFN_NIN];
     for (int i = 0; i < TFN_NIN; i++) {
         raw[i] = u[i];
@@ -387,6 +451,14 @@ static int guard_apply(comp *c, const double *u, double *x, const char *when) {
         found[14] = 1;
         x[6] = copysign(gmax, x[6]);
     }
+    if (!(0.0 <= x[7] && x[7] <= dmax)) {
+        found[16] = 1;
+        x[7] = fmin(fmax(x[7], 0.0), dmax);
+    }
+    if (x[7] > 0.0 && !c->wet) {
+        found[17] = 1;
+        x[7] = 0.0;
+    }
     int bits = 0;
     for (int k = 0; k < TFN_NGUARD; k++) {
         any |= found[k];
@@ -399,12 +471,14 @@ static int guard_apply(comp *c, const double *u, double *x, const char *when) {
             c->active[k]++;
         } else if (found[k]) {
             c->active[k] = 1;
-            int i = GUARD_INPUT[k], nonfinite = k < 6 || k == 13;
+            int i = GUARD_INPUT[k], nonfinite = k < 6 || k == 13 || k == 15;
             logf_(c, fmi2Warning, "%s: input %s = %g is %s: %s (input_status bit %d; logged "
                   "once until it clears)", when, IN_NAME[i], raw[i],
-                  nonfinite ? "not finite" : k == 9 ? "negative" : "outside the envelope",
+                  nonfinite ? "not finite" : k == 9 ? "negative" : k == 17 ? "water on the road"
+                  : "outside the envelope",
                   nonfinite ? "holding its last finite value" : k == 9 ? "taken as lift-off "
-                  "(Fz = 0, no forces)" : "clamped", GUARD_BIT[k]);
+                  "(Fz = 0, no forces)" : k == 17 ? "this FMU's grid has no wet branch, the "
+                  "road is taken as dry" : "clamped", GUARD_BIT[k]);
         } else if (c->active[k]) {
             logf_(c, fmi2OK, "%s: input condition '%s' cleared after %d step(s)", when,
                   GUARD_NAME[k], (int)c->active[k]);
@@ -507,10 +581,12 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     c = calloc(1, sizeof *c);
     if (!c) return NULL;
     *c = tmp;
-    if (load_table(c, path) != 0 || load_rolling(c, resourceLocation) != 0) {
+    if (load_table(c, path) != 0 || load_rolling(c, resourceLocation) != 0 ||
+        load_wet(c, resourceLocation) != 0) {
         free(c->axes);
         free(c->values);
         if (c->rr) tf_table_free(c->rr);
+        if (c->wet) tf_wet_free(c->wet);
         free(c);
         return NULL;
     }
@@ -525,6 +601,7 @@ void fmi2FreeInstance(fmi2Component comp_) {
     if (c->tire) tf_tire_free(c->tire);
     if (c->table) tf_table_free(c->table);
     if (c->rr) tf_table_free(c->rr);
+    if (c->wet) tf_wet_free(c->wet);
     free(c->axes);
     free(c->values);
     free(c->buf);
@@ -738,9 +815,9 @@ fmi2Status fmi2DoStep(fmi2Component comp_, fmi2Real t, fmi2Real h, fmi2Boolean n
     initial_outputs(c, x);
     c->v[TFN_VR_STATUS] = st | 64;
     logf_(c, fmi2Discard, "doStep at t = %.6g s: the tire model failed with inputs vx = %g, "
-          "vy = %g, omega = %g, Fz = %g, T_surface = %g, mu_scale = %g, gamma = %g; it was "
-          "reset to an undeflected tire at rest (input_status bit 64)", t, x[0], x[1], x[2],
-          x[3], x[4], x[5], x[6]);
+          "vy = %g, omega = %g, Fz = %g, T_surface = %g, mu_scale = %g, gamma = %g, "
+          "water_depth = %g; it was reset to an undeflected tire at rest (input_status bit "
+          "64)", t, x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]);
     return fmi2Discard;
 }
 

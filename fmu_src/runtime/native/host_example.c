@@ -75,11 +75,11 @@ int main(int argc, char **argv) {
             fmi2ExitInitializationMode(c[i]) != fmi2OK)
             return 4;
     }
-    /* value references of modelDescription.xml: inputs 0-6, the 12 Real outputs 7-18 */
-    const fmi2ValueReference vin[7] = {0, 1, 2, 3, 4, 5, 6};
-    const fmi2ValueReference vout[12] = {7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18};
+    /* value references of modelDescription.xml: inputs 0-7, the 12 Real outputs 8-19 */
+    const fmi2ValueReference vin[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+    const fmi2ValueReference vout[12] = {8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19};
     double *dt_step = malloc(sizeof(double) * (size_t)steps);
-    double t = 0.0, h = argc > 6 ? atof(argv[6]) : 1e-3, u[7], y[12], total = 0.0;
+    double t = 0.0, h = argc > 6 ? atof(argv[6]) : 1e-3, u[8], y[12], total = 0.0;
     for (int k = 0; k < steps; k++) {
         /* 20 m/s, slip angle ~1 deg, braking slip -5 % after 20 ms, 4 kN, 20 C */
         u[0] = 20.0;
@@ -89,9 +89,10 @@ int main(int argc, char **argv) {
         u[4] = 293.15;
         u[5] = 1.0;
         u[6] = 0.0;
+        u[7] = 0.0;
         double t0 = now();
         for (int i = 0; i < n; i++) {
-            if (fmi2SetReal(c[i], vin, 7, u) != fmi2OK ||
+            if (fmi2SetReal(c[i], vin, 8, u) != fmi2OK ||
                 fmi2DoStep(c[i], t, h, fmi2True) > fmi2Warning ||
                 fmi2GetReal(c[i], vout, 12, y) != fmi2OK)
                 return 5;
