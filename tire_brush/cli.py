@@ -18,9 +18,12 @@ the sign convention of the slip angle given and of the forces printed
 [--loads 0.5,1,1.5] [--fittyp 61|6] [--json] [--points FILE.csv] [--axes iso-w]`` fits Magic
 Formula 6.1 / PAC2002 coefficients to the steady brush (:mod:`tire_brush.mf_fit`), writes the
 ``.tir`` file (ISO-W, as MF readers expect; :mod:`tire_brush.tir`) and prints the fit error per
-channel (RMS and largest ``|MF - brush| / Fz``) and the load dependence of brush and MF;
-``--points`` writes the fit points with the brush's and the MF's forces in the ``--axes``
-convention.
+channel (RMS and largest ``|MF - brush| / Fz``), the load dependence of brush and MF, and the
+camber (``PKY6, PKY7``, Pacejka 2012 eqs. (4.E27)-(4.E30)), overturning (``QSX3``, eq. (4.E69))
+and rolling-resistance (``QSY1, QSY3, QSY7``, eq. (4.E70); only when the grid's compound and
+the tire's ``[rolling_resistance]`` table are there, else why not) results, also in the file's
+header; ``--points`` writes the fit points with the brush's and the MF's forces in the
+``--axes`` convention.
 """
 
 from __future__ import annotations
@@ -166,8 +169,10 @@ def _register_fit_mf(ts: argparse._SubParsersAction) -> None:
     f = ts.add_parser("fit-mf", help="fit Magic Formula 6.1 / PAC2002 coefficients to the "
                                      "steady brush and write a .tir file",
                       description="Fit MF 6.1 / PAC2002 coefficients (pure and combined "
-                                  "slip, load dependence) to the steady brush model at one "
-                                  "temperature and speed and write a TYDEX .tir file (ISO-W).")
+                                  "slip, load dependence, camber stiffness, overturning and "
+                                  "rolling-resistance moments) to the steady brush model at "
+                                  "one temperature and speed and write a TYDEX .tir file "
+                                  "(ISO-W).")
     f.add_argument("--tire", default="passenger",
                    help="tire TOML file or shipped name (default passenger)")
     f.add_argument("--grid", default="default",
@@ -180,8 +185,8 @@ def _register_fit_mf(ts: argparse._SubParsersAction) -> None:
                    help="loads of the fit as multiples of the nominal load (default "
                         "0.5,1,1.5)")
     f.add_argument("--fittyp", type=int, choices=(61, 6), default=61,
-                   help="FITTYP written: 61 (MF 6.1, default) or 6 (PAC2002); same "
-                        "coefficients")
+                   help="FITTYP written: 61 (MF 6.1, default) or 6 (PAC2002: no camber "
+                        "range, My without the load exponent QSY7)")
     f.add_argument("--size", help="size designation, e.g. '205/55 R16' (default: read from "
                                   "the tire file's description)")
     f.add_argument("--pressure", help="inflation pressure written to the file, e.g. "

@@ -15,7 +15,10 @@ evaluate them):
 3. pure ``Mz``: pneumatic trail ``QBZ1..QBZ3, QCZ1, QDZ1, QDZ2, QEZ1..QEZ3``;
 4. combined ``Fx``: ``RBX1, RBX2, RCX1, REX1, REX2``;
 5. combined ``Fy``: ``RBY1, RBY2, RCY1, REY1, REY2, RHY1, RHY2``;
-6. combined ``Mz``: ``SSZ2`` (moment arm of ``Fx`` growing with ``Fy``).
+6. combined ``Mz``: ``SSZ2`` (moment arm of ``Fx`` growing with ``Fy``);
+7. camber: ``PKY6, PKY7`` from the brush's camber stiffness at the fit loads, ``Mx``: ``QSX3``
+   (closed form), ``My``: ``QSY1, QSY3, QSY7`` from :mod:`tire_brush.rolling_resistance`
+   (:func:`fit_camber`, :func:`fit_rolling`).
 
 Coefficients that stay 0, and why (checked by the tests on the brush itself): the brush is
 mirror-symmetric in the slip angle (``Fy(-alpha) = -Fy(alpha)``, ``Mz(-alpha) = -Mz(alpha)``,
@@ -24,8 +27,10 @@ mirror-symmetric in the slip angle (``Fy(-alpha) = -Fy(alpha)``, ``Mz(-alpha) = 
 side force ``RVY*``, the residual moment ``QDZ6, QDZ7, QBZ9, QBZ10`` (an even function of the
 slip angle at zero camber) and ``SSZ1`` (a moment at pure longitudinal slip) are all zero. The
 brush is not symmetric in ``kappa`` (``sigma_x = kappa / (1 + kappa)``: braking and driving
-differ), which ``PEX4`` and ``RHY1, RHY2`` take up. It has no camber, pressure, turn-slip,
-rolling-resistance or overturning model: those coefficients are 0 too.
+differ), which ``PEX4`` and ``RHY1, RHY2`` take up. It has no pressure or turn-slip model, and
+its camber acts on ``Fy`` through the camber stiffness alone (the other camber coefficients,
+``QSX1, QSX2`` and ``QSY2, QSY4..QSY6, QSY8`` are 0; docs/mf-fit.md): those coefficients are 0
+too.
 
 The curvature factors are kept ``<= 1`` over the fitted load range (a penalty in the fit), as
 the MF equations require, so readers that clip ``E`` and readers that do not agree.

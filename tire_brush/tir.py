@@ -241,8 +241,9 @@ def tir_text(coefficients: dict[str, float], *, fittyp: int, size: TireSize,
     coefficients
         ``FNOMIN``, ``UNLOADED_RADIUS`` and MF coefficients (ISO-W); missing ones are 0.
     fittyp
-        61 (MF-Tyre 6.1) or 6 (PAC2002); the coefficients are the same (the fit keeps
-        ``PKY4 = 2``, the PAC2002 value).
+        61 (MF-Tyre 6.1) or 6 (PAC2002); the force and ``Mz`` coefficients are the same (the
+        fit keeps ``PKY4 = 2``, the PAC2002 value); PAC2002 readers do not evaluate ``PKY6,
+        PKY7`` or ``QSY7`` (:func:`tire_brush.mf_fit.fit_mf` with ``fittyp=6``).
     size
         Width, aspect ratio, rim radius.
     pressure
