@@ -263,7 +263,7 @@ def _run_fit_mf(args: argparse.Namespace) -> int:
     cam = s.camber_max if args.fittyp == 61 else 0.0
     ranges = {"KPUMIN": -s.kappa_max, "KPUMAX": s.kappa_max,
               "ALPMIN": -np.radians(s.alpha_max_deg), "ALPMAX": np.radians(s.alpha_max_deg),
-              "CAMMIN": -cam, "CAMMAX": cam,
+              "CAMMIN": -cam if cam else 0.0, "CAMMAX": cam,
               "FZMIN": float(F.min()), "FZMAX": float(F.max())}
     text = tir_text(fit.coefficients, fittyp=args.fittyp, size=size, pressure=pressure,
                     vertical_stiffness=tire.patch.C_z, vx=vx, ranges=ranges,
