@@ -18,9 +18,12 @@ the sign convention of the slip angle given and of the forces printed
 [--loads 0.5,1,1.5] [--fittyp 61|6] [--json] [--points FILE.csv] [--axes iso-w]`` fits Magic
 Formula 6.1 / PAC2002 coefficients to the steady brush (:mod:`tire_brush.mf_fit`), writes the
 ``.tir`` file (ISO-W, as MF readers expect; :mod:`tire_brush.tir`) and prints the fit error per
-channel (RMS and largest ``|MF - brush| / Fz``) and the load dependence of brush and MF;
-``--points`` writes the fit points with the brush's and the MF's forces in the ``--axes``
-convention.
+channel (RMS and largest ``|MF - brush| / Fz``), the load dependence of brush and MF, and the
+camber (``PKY6, PKY7``, Pacejka 2012 eqs. (4.E27)-(4.E30)), overturning (``QSX3``, eq. (4.E69))
+and rolling-resistance (``QSY1, QSY3, QSY7``, eq. (4.E70); only when the grid's compound and
+the tire's ``[rolling_resistance]`` table are there, else why not) results, also in the file's
+header; ``--points`` writes the fit points with the brush's and the MF's forces in the
+``--axes`` convention.
 """
 
 from __future__ import annotations
@@ -166,8 +169,10 @@ def _register_fit_mf(ts: argparse._SubParsersAction) -> None:
     f = ts.add_parser("fit-mf", help="fit Magic Formula 6.1 / PAC2002 coefficients to the "
                                      "steady brush and write a .tir file",
                       description="Fit MF 6.1 / PAC2002 coefficients (pure and combined "
-                                  "slip, load dependence) to the steady brush model at one "
-                                  "temperature and speed and write a TYDEX .tir file (ISO-W).")
+                                  "slip, load dependence, camber stiffness, overturning and "
+                                  "rolling-resistance moments) to the steady brush model at "
+                                  "one temperature and speed and write a TYDEX .tir file "
+                                  "(ISO-W).")
     f.add_argument("--tire", default="passenger",
                    help="tire TOML file or shipped name (default passenger)")
     f.add_argument("--grid", default="default",
@@ -180,8 +185,8 @@ def _register_fit_mf(ts: argparse._SubParsersAction) -> None:
                    help="loads of the fit as multiples of the nominal load (default "
                         "0.5,1,1.5)")
     f.add_argument("--fittyp", type=int, choices=(61, 6), default=61,
-                   help="FITTYP written: 61 (MF 6.1, default) or 6 (PAC2002); same "
-                        "coefficients")
+                   help="FITTYP written: 61 (MF 6.1, default) or 6 (PAC2002: no camber "
+                        "range, My without the load exponent QSY7)")
     f.add_argument("--size", help="size designation, e.g. '205/55 R16' (default: read from "
                                   "the tire file's description)")
     f.add_argument("--pressure", help="inflation pressure written to the file, e.g. "
@@ -226,7 +231,8 @@ def _run_fit_mf(args: argparse.Namespace) -> int:
                          source="--loads", value=args.loads)
     friction = load_friction(args.grid)
     model = SteadyBrush(tire, friction)
-    fit = fit_mf(model, vx, T_K, settings)
+    fit = fit_mf(model, vx, T_K, settings, grid=getattr(friction, "grid", None),
+                 fittyp=args.fittyp)
     fdesc = friction.describe()
     grid_meta = fdesc.get("grid", {})
     road = (f"compound {grid_meta.get('compound_name', '?')} on surface "
@@ -247,14 +253,17 @@ def _run_fit_mf(args: argparse.Namespace) -> int:
         "Fit error |MF - brush| / Fz (forces [1], Mz [m]), RMS / max:",
         *[f"  {ch}: {fit.errors[ch]['rms']:.4g} / {fit.errors[ch]['max']:.4g}"
           for ch in CHANNELS],
-        "No camber, pressure, turn-slip, rolling-resistance or overturning model: those",
-        "coefficients are 0 (CAMMIN = CAMMAX = 0). Shifts are 0: the brush is symmetric in alpha.",
+        *_extra_provenance(fit, args.fittyp),
+        "No pressure or turn-slip model: those coefficients are 0. Shifts are 0: the brush",
+        "is symmetric in alpha.",
         *([f"On a bound of the fit (the MF form cannot follow the brush): "
            f"{', '.join(fit.at_bounds)}."] if fit.at_bounds else []),
     ]
     s = fit.settings
+    cam = s.camber_max if args.fittyp == 61 else 0.0
     ranges = {"KPUMIN": -s.kappa_max, "KPUMAX": s.kappa_max,
               "ALPMIN": -np.radians(s.alpha_max_deg), "ALPMAX": np.radians(s.alpha_max_deg),
+              "CAMMIN": -cam if cam else 0.0, "CAMMAX": cam,
               "FZMIN": float(F.min()), "FZMAX": float(F.max())}
     text = tir_text(fit.coefficients, fittyp=args.fittyp, size=size, pressure=pressure,
                     vertical_stiffness=tire.patch.C_z, vx=vx, ranges=ranges,
@@ -267,7 +276,8 @@ def _run_fit_mf(args: argparse.Namespace) -> int:
                    "loads_N": F.tolist(), "fittyp": args.fittyp, "output": args.output,
                    "tir_axes": "iso-w", "coefficients": fit.coefficients,
                    "fitted": fit.fitted, "at_bounds": fit.at_bounds, "errors": fit.errors,
-                   "load_dependence": fit.load_dependence,
+                   "load_dependence": fit.load_dependence, "camber": fit.camber,
+                   "overturning": fit.overturning, "rolling": fit.rolling,
                    "points_axes": args.axes if args.points else None})
         return 0
     print(f"# wrote {args.output} (FITTYP {args.fittyp}, ISO-W): tire {tire.name}, "
@@ -285,7 +295,41 @@ def _run_fit_mf(args: argparse.Namespace) -> int:
     print_table([{"quantity": key, **{c: row[key] for c, row in
                                      zip(cols, fit.load_dependence, strict=True)}}
                  for key in list(fit.load_dependence[0])[1:]], ("quantity", *cols))
+    print("# camber, overturning and rolling-resistance moments")
+    for line in _extra_provenance(fit, args.fittyp):
+        print(f"# {line.strip()}")
     return 0
+
+
+def _extra_provenance(fit, fittyp: int) -> list[str]:
+    """Lines on the camber, ``Mx`` and ``My`` fits (file header and text output)."""
+    cam, ot, rr = fit.camber, fit.overturning, fit.rolling
+    c = fit.coefficients
+    e = cam["errors"]
+    lines = [
+        f"Camber (MF 6.1): PKY6 = {c['PKY6']:.5g}, PKY7 = {c['PKY7']:.5g} from the brush's "
+        f"camber stiffness (largest error {cam['stiffness_rel_error_max']:.2%});",
+        f"  |gamma| <= {cam['gamma_max_rad']:g} rad, kappa = 0: Fy error / Fz RMS / max "
+        f"{e['Fy']['rms']:.4g} / {e['Fy']['max']:.4g} (camber part "
+        f"{e['Fy_camber_part']['rms']:.4g} / {e['Fy_camber_part']['max']:.4g});",
+        f"  the brush's camber aligning moment (not in the file, QDZ8.. = 0): |dMz| / Fz "
+        f"RMS / max {e['Mz_camber_part_brush']['rms']:.3g} / "
+        f"{e['Mz_camber_part_brush']['max']:.3g} m.",
+    ]
+    if fittyp != 61:
+        lines.append("  PAC2002 readers do not evaluate PKY6, PKY7: CAMMIN = CAMMAX = 0.")
+    lines.append(f"Mx: QSX3 = Fz0 / (R0 k_y) = {ot['QSX3']:.6g} (the brush's Mx = Fy Fz / k_y, "
+                 f"exact).")
+    if rr["fitted"]:
+        r = rr["errors"]
+        lines.append(
+            f"My: {', '.join(f'{n} = {c[n]:.5g}' for n in rr['fitted'])} from "
+            f"tire_brush.rolling_resistance (compound {rr['compound']}, T of the fit); "
+            f"|dMy| / (R0 Fz) RMS / max {r['rms']:.3g} / {r['max']:.3g} "
+            f"({r['rel_max']:.1%} of My at most).")
+    else:
+        lines.append(f"My: QSY* = 0, no rolling-resistance fit: {rr['why']}.")
+    return lines
 
 
 def _write_points(path: str, fit, axes: str) -> None:

@@ -15,7 +15,10 @@ evaluate them):
 3. pure ``Mz``: pneumatic trail ``QBZ1..QBZ3, QCZ1, QDZ1, QDZ2, QEZ1..QEZ3``;
 4. combined ``Fx``: ``RBX1, RBX2, RCX1, REX1, REX2``;
 5. combined ``Fy``: ``RBY1, RBY2, RCY1, REY1, REY2, RHY1, RHY2``;
-6. combined ``Mz``: ``SSZ2`` (moment arm of ``Fx`` growing with ``Fy``).
+6. combined ``Mz``: ``SSZ2`` (moment arm of ``Fx`` growing with ``Fy``);
+7. camber: ``PKY6, PKY7`` from the brush's camber stiffness at the fit loads, ``Mx``: ``QSX3``
+   (closed form), ``My``: ``QSY1, QSY3, QSY7`` from :mod:`tire_brush.rolling_resistance`
+   (:func:`fit_camber`, :func:`fit_rolling`).
 
 Coefficients that stay 0, and why (checked by the tests on the brush itself): the brush is
 mirror-symmetric in the slip angle (``Fy(-alpha) = -Fy(alpha)``, ``Mz(-alpha) = -Mz(alpha)``,
@@ -24,8 +27,10 @@ mirror-symmetric in the slip angle (``Fy(-alpha) = -Fy(alpha)``, ``Mz(-alpha) = 
 side force ``RVY*``, the residual moment ``QDZ6, QDZ7, QBZ9, QBZ10`` (an even function of the
 slip angle at zero camber) and ``SSZ1`` (a moment at pure longitudinal slip) are all zero. The
 brush is not symmetric in ``kappa`` (``sigma_x = kappa / (1 + kappa)``: braking and driving
-differ), which ``PEX4`` and ``RHY1, RHY2`` take up. It has no camber, pressure, turn-slip,
-rolling-resistance or overturning model: those coefficients are 0 too.
+differ), which ``PEX4`` and ``RHY1, RHY2`` take up. It has no pressure or turn-slip model, and
+its camber acts on ``Fy`` through the camber stiffness alone (the other camber coefficients,
+``QSX1, QSX2`` and ``QSY2, QSY4..QSY6, QSY8`` are 0; docs/mf-fit.md): those coefficients are 0
+too.
 
 The curvature factors are kept ``<= 1`` over the fitted load range (a penalty in the fit), as
 the MF equations require, so readers that clip ``E`` and readers that do not agree.
@@ -69,6 +74,16 @@ class FitSettings:
         Slips of the combined grid.
     combined_alpha_deg : tuple of float
         Slip angles of the combined grid [deg] (each with both signs).
+    camber_max : float
+        Largest ``|gamma|`` of the camber check [rad] (the file's ``CAMMIN, CAMMAX``).
+    camber_step : float
+        Inclination of the central difference for the camber stiffness [rad].
+    n_camber : int
+        Inclinations of the camber check, equally spaced in ``[-camber_max, camber_max]``.
+    camber_alpha_deg : tuple of float
+        Slip angles of the camber check besides 0 [deg] (each with both signs).
+    rolling_speeds : tuple of float
+        Speeds of the rolling-resistance fit as multiples of ``vx`` [1].
     """
 
     loads: tuple[float, ...] = (0.5, 1.0, 1.5)
@@ -79,6 +94,11 @@ class FitSettings:
     combined_kappa_max: float = 0.5
     n_combined_kappa: int = 21
     combined_alpha_deg: tuple[float, ...] = (2.0, 5.0, 10.0)
+    camber_max: float = 0.1
+    camber_step: float = 0.01
+    n_camber: int = 9
+    camber_alpha_deg: tuple[float, ...] = (2.0, 5.0)
+    rolling_speeds: tuple[float, ...] = (0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 2.0)
 
     def __post_init__(self) -> None:
         problems = []
@@ -101,6 +121,21 @@ class FitSettings:
                 not 0 < a < self.alpha_max_deg for a in self.combined_alpha_deg):
             problems.append(("combined_alpha_deg", self.combined_alpha_deg,
                              "must lie in (0, alpha_max_deg)"))
+        if not 0 < self.camber_max <= 0.3:
+            problems.append(("camber_max", self.camber_max, "must lie in (0, 0.3] rad"))
+        if not 0 < self.camber_step <= self.camber_max / 2:
+            problems.append(("camber_step", self.camber_step,
+                             "must lie in (0, camber_max / 2] rad"))
+        if not (3 <= self.n_camber <= 201 and self.n_camber % 2 == 1):
+            problems.append(("n_camber", self.n_camber,
+                             "must be odd (includes gamma = 0) and lie in 3..201"))
+        if any(not 0 < a < self.alpha_max_deg for a in self.camber_alpha_deg):
+            problems.append(("camber_alpha_deg", self.camber_alpha_deg,
+                             "must lie in (0, alpha_max_deg)"))
+        if len(self.rolling_speeds) < 3 or any(
+                not (math.isfinite(v) and 0 < v <= 5) for v in self.rolling_speeds):
+            problems.append(("rolling_speeds", self.rolling_speeds,
+                             "need at least three multiples of vx in (0, 5]"))
         if problems:
             name, value, msg = problems[0]
             raise InputError(msg, field=f"FitSettings.{name}", value=value)
@@ -150,6 +185,13 @@ class MFFit:
         linearly with the load).
     settings : FitSettings
         The sampling used.
+    camber : dict
+        Camber fit (:func:`fit_camber`): per load the camber stiffness of brush and MF, and the
+        ``Fy``, ``Mz`` errors over the camber check grid.
+    overturning : dict
+        ``QSX3`` and the largest ``|Mx_MF - Mx_brush|`` on the camber check grid.
+    rolling : dict
+        Rolling-resistance fit (:func:`fit_rolling`), or why there is none.
     """
 
     coefficients: dict[str, float]
@@ -160,6 +202,9 @@ class MFFit:
     load_dependence: list[dict[str, float]]
     at_bounds: list[str] = field(default_factory=list)
     settings: FitSettings = field(default_factory=FitSettings)
+    camber: dict = field(default_factory=dict)
+    overturning: dict = field(default_factory=dict)
+    rolling: dict = field(default_factory=dict)
 
 
 def _spaced(vmax: float, n: int, power: float) -> np.ndarray:
@@ -244,11 +289,20 @@ def _curvature_excess(values) -> np.ndarray:
     return _E_PENALTY * np.maximum(np.concatenate([np.ravel(v) for v in values]) - 1.0, 0.0)
 
 
-def fit_mf(model, vx: float, T_K: float, settings: FitSettings | None = None) -> MFFit:
+def fit_mf(model, vx: float, T_K: float, settings: FitSettings | None = None, *,
+           grid=None, fittyp: int = 61) -> MFFit:
     """Fit MF 6.1 coefficients (ISO-W) to ``model`` (a
     :class:`~tire_brush.steady.SteadyBrush`) at forward speed ``vx`` [m/s] and background
-    temperature ``T_K`` [K] (module docstring)."""
+    temperature ``T_K`` [K] (module docstring).
+
+    ``grid`` is the friction grid the model runs on (:class:`lookup.grid.FrictionGrid`, or
+    ``None``): its compound gives the tread part of the rolling resistance
+    (:func:`fit_rolling`). ``fittyp`` 6 (PAC2002) fits the rolling-resistance moment without
+    the load exponent ``QSY7``, which PAC2002 readers do not evaluate.
+    """
     settings = settings or FitSettings()
+    if fittyp not in (6, 61):
+        raise InputError("must be 61 (MF 6.1) or 6 (PAC2002)", field="fittyp", value=fittyp)
     if not (math.isfinite(vx) and vx > 0):
         raise InputError("forward speed must be > 0 m/s", field="vx", value=vx)
     tire = model.params
@@ -319,10 +373,166 @@ def fit_mf(model, vx: float, T_K: float, settings: FitSettings | None = None) ->
         fitted += [n for n, *_ in spec]
 
     model_out = _evaluate_points(coef, pts)
+    camber, overturning = fit_camber(model, coef, vx, T_K, settings)
+    fitted += camber["fitted"]
+    rolling = fit_rolling(tire, grid, coef, vx, T_K, settings, fittyp)
+    fitted += rolling["fitted"]
     return MFFit(coefficients=coef, fitted=fitted, errors=fit_errors(pts, model_out),
                  points=pts, mf=model_out,
                  load_dependence=_load_dependence(model, coef, vx, T_K, settings),
-                 at_bounds=at_bounds, settings=settings)
+                 at_bounds=at_bounds, settings=settings, camber=camber,
+                 overturning=overturning, rolling=rolling)
+
+
+# -- camber and overturning moment -------------------------------------------------------------
+def _stats(x: np.ndarray) -> dict[str, float]:
+    """RMS and largest absolute value of ``x``."""
+    x = np.abs(np.asarray(x, float))
+    return {"rms": float(np.sqrt(np.mean(x**2))), "max": float(x.max())}
+
+
+def camber_points(model, vx: float, T_K: float, settings: FitSettings) -> dict[str, np.ndarray]:
+    """The camber check grid and the brush there (one vectorised call), ISO-W.
+
+    Rows: per load, the two inclinations ``+-camber_step`` at zero slip (the camber
+    stiffness), then ``n_camber`` inclinations in ``[-camber_max, camber_max]`` at the slip
+    angles ``0, +-camber_alpha_deg`` (``kappa = 0``). Keys ``kind`` (``"stiffness"`` or
+    ``"grid"``), ``alpha``, ``gamma`` [rad], ``Fz``, ``Fy`` [N], ``Mx``, ``Mz`` [N m].
+    """
+    s = settings
+    loads = np.asarray(s.loads, float) * model.params.Fz_nom
+    h = s.camber_step
+    g = np.linspace(-s.camber_max, s.camber_max, s.n_camber)
+    a = np.radians(np.concatenate([-np.asarray(s.camber_alpha_deg)[::-1], [0.0],
+                                   np.asarray(s.camber_alpha_deg)]))
+    G, A = (x.ravel() for x in np.meshgrid(g, a))
+    one_g = np.concatenate([[h, -h], G])
+    one_a = np.concatenate([[0.0, 0.0], A])
+    kind = np.array(["stiffness"] * 2 + ["grid"] * G.size)
+    gamma = np.tile(one_g, loads.size)
+    alpha = np.tile(one_a, loads.size)
+    Fz = np.repeat(loads, one_g.size)
+    out = model.solve(0.0, alpha, vx, Fz, T_K, gamma=gamma)
+    w = convert_wrench(Wrench(out.Fx, out.Fy, Fz, out.Mx, 0.0, out.Mz), BRUSH_AXES, "iso-w")
+    return {"kind": np.tile(kind, loads.size), "alpha": alpha, "gamma": gamma, "Fz": Fz,
+            "Fy": np.asarray(w.Fy), "Mx": np.asarray(w.Mx), "Mz": np.asarray(w.Mz)}
+
+
+def fit_camber(model, coef: dict, vx: float, T_K: float,
+               settings: FitSettings) -> tuple[dict, dict]:
+    """Camber stiffness ``PKY6, PKY7`` and the overturning couple ``QSX3``; writes them into
+    ``coef`` and returns the camber and overturning reports.
+
+    The brush's camber stiffness at each fit load, ``K_yg = dFy/d(sin gamma)`` at zero slip
+    (central difference at ``+-camber_step``), is MF 6.1's ``K_yg0 = Fz (PKY6 + PKY7 dfz)``
+    (Pacejka 2012 eq. (4.E30)): with ``PVY3 = PVY4 = 0`` the camber acts through the horizontal
+    shift ``S_Hy = K_yg0 sin(gamma) / K_ya`` (4.E27), whose slope of ``Fy`` at zero slip is
+    ``K_yg0`` exactly. ``PKY6, PKY7`` are the linear least-squares fit of ``K_yg / Fz``
+    against ``dfz``. The fit is then checked over ``[-camber_max, camber_max]`` at the slip
+    angles of :class:`FitSettings`: the side force (all of it, and the camber part
+    ``Fy(alpha, gamma) - Fy(alpha, 0)``), and the brush's camber aligning moment, which the
+    MF (its ``Mz`` camber terms 0) does not carry.
+
+    The brush's overturning moment is ``Mx = Fy Fz / k_y`` in ISO-W (the lateral deflection of
+    the belt ``Fy / k_y`` moves the load off the wheel plane; :mod:`tire_brush.steady`), which
+    is the ``QSX3`` term of eq. (4.E69), ``Mx = R0 Fz QSX3 Fy / Fz0``, with
+    ``QSX3 = Fz0 / (R0 k_y)`` (0 for a rigid carcass, whose ``Mx`` is 0).
+    """
+    tire = model.params
+    Fz0, R0 = coef["FNOMIN"], coef["UNLOADED_RADIUS"]
+    cp = camber_points(model, vx, T_K, settings)
+    st = cp["kind"] == "stiffness"
+    Fzs = cp["Fz"][st][::2]
+    d = (Fzs - Fz0) / Fz0
+    Fy_pm = cp["Fy"][st].reshape(-1, 2)
+    K_brush = (Fy_pm[:, 0] - Fy_pm[:, 1]) / (2.0 * math.sin(settings.camber_step))
+    design = np.stack([np.ones_like(d), d], axis=1)
+    (pky6, pky7), *_ = np.linalg.lstsq(design, K_brush / Fzs, rcond=None)
+    coef.update({"PKY6": float(pky6), "PKY7": float(pky7), "PVY3": 0.0, "PVY4": 0.0})
+    K_mf = Fzs * (coef["PKY6"] + coef["PKY7"] * d)
+    Mz_pm = cp["Mz"][st].reshape(-1, 2)
+    rows = [{"Fz_N": float(F), "K_ygamma_per_Fz_brush": float(kb / F),
+             "K_ygamma_per_Fz_mf": float(km / F), "rel_error": float(abs(km - kb) / abs(kb)),
+             "camber_trail_m_brush": float(-(mz[0] - mz[1]) / (fy[0] - fy[1]))}
+            for F, kb, km, mz, fy in zip(Fzs, K_brush, K_mf, Mz_pm, Fy_pm, strict=True)]
+    # the check over the camber range
+    gr = cp["kind"] == "grid"
+    a, g, F = cp["alpha"][gr], cp["gamma"][gr], cp["Fz"][gr]
+    Fy_b, Mz_b = cp["Fy"][gr], cp["Mz"][gr]
+    mfo = mf.evaluate(coef, 0.0, a, F, gamma=g)
+    ref = np.flatnonzero(g == 0.0)
+    key = {(x, f): i for i, x, f in zip(ref, a[ref], F[ref], strict=True)}
+    i0 = np.array([key[(x, f)] for x, f in zip(a, F, strict=True)])
+    dFy_b, dFy_mf = Fy_b - Fy_b[i0], mfo.Fy - mfo.Fy[i0]
+    camber = {
+        "fitted": ["PKY6", "PKY7"], "gamma_max_rad": settings.camber_max, "loads": rows,
+        "stiffness_rel_error_max": max(r["rel_error"] for r in rows),
+        "errors": {"Fy": _stats((mfo.Fy - Fy_b) / F),
+                   "Fy_camber_part": _stats((dFy_mf - dFy_b) / F),
+                   "Mz": _stats((mfo.Mz - Mz_b) / F),
+                   "Mz_camber_part_brush": _stats((Mz_b - Mz_b[i0]) / F)},
+        "points": {"alpha_rad": a.tolist(), "gamma_rad": g.tolist(), "Fz_N": F.tolist()},
+    }
+    # overturning moment
+    coef.update({"QSX1": 0.0, "QSX2": 0.0,
+                 "QSX3": 0.0 if model.rigid_carcass else Fz0 / (R0 * tire.carcass.k_y)})
+    Mx_mf = mf.overturning_mx(coef, cp["Fy"], cp["Fz"], cp["gamma"])
+    overturning = {"QSX3": coef["QSX3"], "k_y_N_per_m": tire.carcass.k_y,
+                   "rigid_carcass": bool(model.rigid_carcass),
+                   "max_abs_error_Nm": float(np.max(np.abs(Mx_mf - cp["Mx"]))),
+                   "max_abs_Mx_Nm": float(np.max(np.abs(cp["Mx"])))}
+    return camber, overturning
+
+
+# -- rolling resistance ------------------------------------------------------------------------
+def fit_rolling(params, grid, coef: dict, vx: float, T_K: float, settings: FitSettings,
+                fittyp: int = 61) -> dict:
+    """``QSY1, QSY3`` and (MF 6.1) ``QSY7`` of the rolling-resistance moment, written into
+    ``coef``; returns the report.
+
+    The model is :func:`tire_brush.rolling_resistance.rolling_resistance` at the fit
+    temperature (tread and carcass at ``T_K``), ``My = -f_r Fz R_e`` in ISO-W, at the fit
+    loads and the speeds ``rolling_speeds * vx``; the MF is eq. (4.E70)
+    (:func:`~tire_brush.magic_formula.rolling_my`) with ``V_ref = LONGVL = vx``, fitted by
+    least squares on ``dMy / (R0 Fz)``. The compound of the tread term is the one
+    :func:`~tire_brush.rolling_resistance.rolling_table` accepts for the tire on ``grid``
+    (the grid's compound, checked against its recorded parameters; the tire file's
+    ``[rolling_resistance]`` table needed): when it gives none, ``QSY*`` stay 0 and the report
+    says why. PAC2002 (``fittyp`` 6) has no load exponent: ``QSY7`` stays 0.
+    """
+    from scipy.optimize import least_squares
+
+    from lookup.compound import load_compound
+
+    from .rolling_resistance import rolling_resistance, rolling_table
+
+    names = ["QSY1", "QSY3", "QSY7"] if fittyp == 61 else ["QSY1", "QSY3"]
+    table, why = rolling_table(params, grid)
+    if table is None:
+        return {"fitted": [], "why": why}
+    compound = load_compound(table.compound)
+    V = np.asarray(settings.rolling_speeds, float) * vx
+    loads = np.asarray(settings.loads, float) * params.Fz_nom
+    VV, FF = (x.ravel() for x in np.meshgrid(V, loads))
+    rr = rolling_resistance(params, compound, VV, FF, T_K)
+    My = np.asarray(rr.My)
+    R0 = coef["UNLOADED_RADIUS"]
+
+    def residual(x):
+        trial = dict(coef, **dict(zip(names, x, strict=True)))
+        return (mf.rolling_my(trial, FF, VV, vx) - My) / (R0 * FF)
+
+    f_nom = float(np.median(rr.f_r)) * params.R_e / R0
+    x0 = np.array([f_nom, 0.0, 1.0][:len(names)])
+    res = least_squares(residual, x0, x_scale="jac", method="trf", xtol=1e-14, ftol=1e-14,
+                        gtol=1e-14, max_nfev=2000)
+    coef.update({n: float(v) for n, v in zip(names, res.x, strict=True)})
+    diff = mf.rolling_my(coef, FF, VV, vx) - My
+    return {"fitted": names, "compound": table.compound, "T_K": float(T_K),
+            "R_e_m": float(params.R_e), "speeds_m_s": V.tolist(), "loads_N": loads.tolist(),
+            "errors": {**_stats(diff / (R0 * FF)), "rel_max": float(np.max(np.abs(diff / My))),
+                       "max_abs_Nm": float(np.max(np.abs(diff)))},
+            "f_r_min": float(rr.f_r.min()), "f_r_max": float(rr.f_r.max())}
 
 
 def _evaluate_points(coef: dict, pts: FitPoints) -> dict[str, np.ndarray]:

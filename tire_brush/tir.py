@@ -9,9 +9,10 @@ readers cut the key and the value at those blanks), ``!`` comment lines, SI unit
 :mod:`tire_brush.axes`. Numbers are written with Python's shortest exact ``repr``, so reading
 the file back gives the fitted values bit for bit.
 
-Every coefficient the brush model has nothing to say about (camber, pressure, turn slip,
-rolling resistance, overturning moment, relaxation) is written as 0 rather than left out, so
-no reader falls back on a default from another tire; ``LMUV`` (friction decay with slip speed)
+Every coefficient the fit does not set (the camber terms other than the camber stiffness
+``PKY6, PKY7``, pressure, turn slip, the overturning moment other than ``QSX3``, the rolling
+resistance other than ``QSY1, QSY3, QSY7``, relaxation) is written as 0 rather than left out,
+so no reader falls back on a default from another tire; ``LMUV`` (friction decay with slip speed)
 is 0 because the brush's own speed dependence is already in the fitted curves at the fitted
 speed; every other scaling factor is 1.
 """
@@ -109,6 +110,10 @@ COEFFICIENT_SECTIONS: list[tuple[str, list[tuple[str, str]]]] = [
         ("QSY2", "Rolling resistance torque depending on Fx"),
         ("QSY3", "Rolling resistance torque depending on speed"),
         ("QSY4", "Rolling resistance torque depending on speed ^4"),
+        ("QSY5", "Rolling resistance torque depending on camber squared"),
+        ("QSY6", "Rolling resistance torque depending on load and camber squared"),
+        ("QSY7", "Rolling resistance torque coefficient load dependency"),
+        ("QSY8", "Rolling resistance torque coefficient pressure dependency"),
     ]),
     ("ALIGNING_COEFFICIENTS", [
         ("QBZ1", "Trail slope factor for trail Bpt at Fznom"),
@@ -236,8 +241,9 @@ def tir_text(coefficients: dict[str, float], *, fittyp: int, size: TireSize,
     coefficients
         ``FNOMIN``, ``UNLOADED_RADIUS`` and MF coefficients (ISO-W); missing ones are 0.
     fittyp
-        61 (MF-Tyre 6.1) or 6 (PAC2002); the coefficients are the same (the fit keeps
-        ``PKY4 = 2``, the PAC2002 value).
+        61 (MF-Tyre 6.1) or 6 (PAC2002); the force and ``Mz`` coefficients are the same (the
+        fit keeps ``PKY4 = 2``, the PAC2002 value); PAC2002 readers do not evaluate ``PKY6,
+        PKY7`` or ``QSY7`` (:func:`tire_brush.mf_fit.fit_mf` with ``fittyp=6``).
     size
         Width, aspect ratio, rim radius.
     pressure
@@ -248,7 +254,8 @@ def tir_text(coefficients: dict[str, float], *, fittyp: int, size: TireSize,
     vx
         Speed of the fit [m/s] (``LONGVL``).
     ranges
-        ``KPUMIN, KPUMAX, ALPMIN, ALPMAX, FZMIN, FZMAX``: the fitted ranges.
+        ``KPUMIN, KPUMAX, ALPMIN, ALPMAX, CAMMIN, CAMMAX, FZMIN, FZMAX``: the fitted ranges
+        (``CAMMIN = CAMMAX = 0`` when the camber fit does not apply).
     provenance
         Comment lines (without the leading ``!``).
     """
@@ -302,8 +309,8 @@ def tir_text(coefficients: dict[str, float], *, fittyp: int, size: TireSize,
     kv("ALPMIN", _num(ranges["ALPMIN"]), "Minimum valid slip angle [rad] (fitted range)")
     kv("ALPMAX", _num(ranges["ALPMAX"]), "Maximum valid slip angle [rad] (fitted range)")
     section("INCLINATION_ANGLE_RANGE")
-    kv("CAMMIN", "0.0", "Minimum valid camber angle [rad]: the brush has no camber model")
-    kv("CAMMAX", "0.0", "Maximum valid camber angle [rad]: the brush has no camber model")
+    kv("CAMMIN", _num(ranges["CAMMIN"]), "Minimum valid camber angle [rad] (fitted range)")
+    kv("CAMMAX", _num(ranges["CAMMAX"]), "Maximum valid camber angle [rad] (fitted range)")
     section("VERTICAL_FORCE_RANGE")
     kv("FZMIN", _num(ranges["FZMIN"]), "Minimum allowed wheel load [N] (fitted range)")
     kv("FZMAX", _num(ranges["FZMAX"]), "Maximum allowed wheel load [N] (fitted range)")
