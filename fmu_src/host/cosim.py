@@ -10,7 +10,10 @@ instantiate once, then at every fixed communication step (1 ms by default)
 3. integrate the quarter car over the step with that force held (explicit coupling).
 
 The vehicle equations and parameters are those of :mod:`tire_brush.braking.quarter_car`
-(``m v' = Fx``, ``J omega' = -R Fx - T_b``, ``T_b' = u``); the brake controller is any
+(``m v' = Fx``, ``J omega' = -R Fx - T_b``, ``T_b' = u``), with the FMU's rolling resistance
+moment ``My`` (0 when its build has no rolling-resistance table, or for an FMU without the
+output) acting on the wheel too: ``J omega' = -R Fx - T_b - My`` (``My`` in the brush's adapted
+SAE axes, positive against forward rolling); the brake controller is any
 :class:`tire_brush.braking.abs_control.BrakeController` (the rule-based ABS, a locked wheel, or
 the open-loop :class:`~tire_brush.braking.abs_control.TorqueRamp`), sampled every
 ``control_period`` (a whole number of communication steps) with the torque rate held in
@@ -206,6 +209,15 @@ def _start_values(md: Any, car: QuarterCar, settings: CosimSettings) -> dict[str
     return values
 
 
+def _my_reader(md_vars: dict[str, Any], start: Mapping[str, Any]) -> tuple[int | None, float]:
+    """Value reference of the FMU's ``My`` (None: no such output) and the factor taking it
+    into the brush's adapted SAE axes (its ``axes`` parameter: ISO-W flips ``My``)."""
+    if "My" not in md_vars:
+        return None, 0.0
+    axes = start.get("axes", md_vars["axes"].start if "axes" in md_vars else 0)
+    return md_vars["My"].valueReference, -1.0 if int(axes) == 1 else 1.0
+
+
 def _set(fmu: Any, md_vars: dict[str, Any], values: Mapping[str, Any]) -> None:
     for name, val in values.items():
         var = md_vars[name]
@@ -318,6 +330,7 @@ def simulate_braking_fmu(
     vin = [md_vars[n].valueReference for n in INPUT_NAMES]
     vout = [md_vars[n].valueReference for n in OUTPUT_NAMES]
     status_vr = md_vars["input_status"].valueReference if "input_status" in md_vars else None
+    my_vr, my_sign = _my_reader(md_vars, start)
     R, Fz = car.radius, car.Fz
     Tmax = car.brake_torque_max
     try:
@@ -358,6 +371,8 @@ def simulate_braking_fmu(
             Tb_new = min(max(Tb + h * u, 0.0), Tmax)
             _, dv, domega, _, _ = quarter_car_rhs(car, Fx / Fz, v, omega, 0.5 * (Tb + Tb_new),
                                                   u, y["T_tread"], T_ambient)
+            if my_vr is not None:     # rolling resistance on the wheel
+                domega -= my_sign * slave.getReal([my_vr])[0] / car.wheel_inertia
             v_new = v + h * dv
             # the brake removes at most the spin there is: it holds a locked wheel
             omega_new = max(omega + h * domega, 0.0)
@@ -496,6 +511,8 @@ def simulate_two_track_fmu(
     vin = [md_vars[n].valueReference for n in INPUT_NAMES]
     vr_fx = md_vars["Fx"].valueReference
     status_vr = md_vars["input_status"].valueReference if "input_status" in md_vars else None
+    my_vr, my_sign = _my_reader(md_vars, start)
+    My = np.zeros(4)
     slaves = []
     try:
         x, v, a, t = 0.0, float(v0), 0.0, 0.0
@@ -540,10 +557,12 @@ def simulate_two_track_fmu(
                     raise CosimError(f"the FMU of wheel {WHEELS[i]} reset its tire model at "
                                      f"t = {t:.6g} s")
                 Fx[i] = sl.getReal([vr_fx])[0]
+                if my_vr is not None:     # rolling resistance on the wheel
+                    My[i] = my_sign * sl.getReal([my_vr])[0]
             Tb_new = np.clip(Tb + h * u, 0.0, cap)
             a = float(np.sum(Fx)) / m
             v_new = v + h * a
-            w_new = np.maximum(w + h * (-R * Fx - 0.5 * (Tb + Tb_new)) / J, 0.0)
+            w_new = np.maximum(w + h * (-R * Fx - 0.5 * (Tb + Tb_new) - My) / J, 0.0)
             x_new = x + 0.5 * h * (v + v_new)
             k += 1
             if v_new <= v_stop:
