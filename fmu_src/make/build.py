@@ -492,4 +492,6 @@ def read_fmu_info(path: str | Path) -> dict[str, Any]:
             "options": build["options"], "limits": build["limits"],
             "requirements": build["requirements"], "versions": build["versions"],
             "runtime": build.get("runtime", {}), "flavour": build.get("flavour", "pythonfmu"),
-            "native": build.get("native", {})}
+            "native": build.get("native", {}),
+            "rolling": build.get("rolling", {"file": None, "why": "built before My existed"}),
+            "wet": build.get("wet", {"file": None, "why": "built before water_depth existed"})}

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from lookup.cli import dump_json, parse_float
+from lookup.cli import dump_json, parse_float, parse_quantity_option
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -35,6 +35,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--axes", choices=("adapted-sae", "iso-w", "sae"), default=None,
                    help="start value of the axes parameter, the axis system of vy, Fy, Mz and "
                         "alpha (default: adapted-sae, the brush's own; docs/axes.md)")
+    b.add_argument("--texture-depth", default=None, metavar="LENGTH",
+                   help="start value of the texture_depth parameter, the road's mean texture "
+                        "depth for the hydroplaning model: metres or e.g. '0.7 mm' (default "
+                        "0: the texture holds no water)")
     b.add_argument("--native", action="store_true",
                    help="build the Python-free flavour: the C core with an FMI 2.0 wrapper "
                         "(binaries for linux64, and win64 where a cross-compiler is found: "
@@ -59,6 +63,9 @@ def _run_build(args: argparse.Namespace) -> int:
         kw["dt_internal"] = parse_float(args.dt_internal, "--dt-internal")
     if args.s0 is not None:
         kw["s0"] = parse_float(args.s0, "--s0")
+    if args.texture_depth is not None:
+        kw["texture_depth"] = parse_quantity_option(args.texture_depth, "--texture-depth",
+                                                    "length", "m")
     if args.axes is not None:
         from fmu_src.runtime.interface import AXES_OPTION
 
@@ -102,6 +109,11 @@ def _run_info(args: argparse.Namespace) -> int:
         if key in g["meta"]:
             print(f"          {key} = {g['meta'][key]}")
     print("options   " + ", ".join(f"{k} = {v}" for k, v in info["options"].items()))
+    for key, what in (("rolling", "My from the rolling-resistance table"),
+                      ("wet", "water_depth through the grid's wet branch")):
+        entry = info[key]
+        has = entry.get("file") or entry.get("table")
+        print(f"{key:9s} " + (what if has else f"none ({entry.get('why', '')})"))
     if info["flavour"] == "native":
         print(f"needs     nothing (native: {', '.join(info['native'].get('platforms', []))})")
     else:
