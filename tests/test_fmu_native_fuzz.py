@@ -64,3 +64,32 @@ def test_fuzz_under_address_and_undefined_sanitizers(fmu_dir, tmp_path):
                     "-o", str(lib), str(src / "fmu_wrapper.c"), str(src / "tirecore.c"),
                     "-lm"], check=True)
     _run(unz, guid, lib, 10_000, 3, flags)
+
+
+@pytest.fixture(scope="module")
+def wet_fmu_dir(tmp_path_factory):
+    """The native FMU on the wet reference road's grid: wet branch and rolling-resistance
+    table as resources, so the fuzz reaches the water and My paths."""
+    import fmpy
+
+    d = tmp_path_factory.mktemp("native_fuzz_wet")
+    fmu = build_native_fmu("passenger", "r117_wet", d / "BrushTireWet.fmu",
+                           platforms=("linux64",)).path
+    unz = Path(fmpy.extract(str(fmu)))
+    assert (unz / "resources" / "tirefric-wet.bin").is_file()
+    assert (unz / "resources" / "tirefric-rolling.bin").is_file()
+    return unz, fmpy.read_model_description(str(fmu)).guid
+
+
+@pytest.mark.slow
+def test_fuzz_wet_build_under_sanitizers(wet_fmu_dir, tmp_path):
+    """Water (a third of the steps, -2 ... 10 mm), camber and My with adversarial inputs,
+    rollbacks and corrupt blobs, under ASan and UBSan."""
+    unz, guid = wet_fmu_dir
+    flags = ("-fsanitize=address,undefined", "-fno-sanitize-recover=undefined")
+    lib = tmp_path / "asan_wet.so"
+    src = unz / "sources"
+    subprocess.run(["cc", "-std=c99", "-O1", "-g", *flags, "-fPIC", "-shared", "-I", str(src),
+                    "-o", str(lib), str(src / "fmu_wrapper.c"), str(src / "tirecore.c"),
+                    "-lm"], check=True)
+    _run(unz, guid, lib, 10_000, 11, flags)
