@@ -24,7 +24,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
         description="Rolling resistance of the brush tire from the tread compound's loss "
                     "(review eq. 29 through the tread layer) and a carcass deflection-energy "
                     "term (docs/rolling.md): the coefficient at the ISO 28580 conditions "
-                    "(80 km/h, 25 C, 80 %% of the load-index load, ISO inflation), its EU "
+                    "(80 km/h, 25 C, 80 % of the load-index load, ISO inflation), its EU "
                     "label class and change per K, and a table over speed, load and "
                     "temperature at the tire file's inflation pressure.")
     p.add_argument("--tire", default="passenger",
