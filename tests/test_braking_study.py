@@ -97,6 +97,12 @@ def test_cli_study_end_to_end(tmp_path, capsys):
         assert 0 < case[key] < 200, f"JSON key {key}: a stopping distance in metres"
     assert -1 < case["optimal_slip"] < 0, "braking slip of the force maximum, in (-1, 0)"
     assert case["point_mass_bound"] <= case["stopping_distance_ocp"] * 1.001
+    # the bound with the brake torque's build-up is tighter and still holds (0.1 %: the
+    # spline's error at the peak and the collocation error at 40 intervals)
+    assert case["point_mass_bound"] < case["ramp_bound"] \
+        <= case["stopping_distance_ocp"] * 1.001
+    assert case["ocp_bound_gap"] == pytest.approx(
+        case["stopping_distance_ocp"] / case["ramp_bound"] - 1.0, rel=1e-9)
     assert case["stopping_distance_ocp"] < case["stopping_distance_abs"] \
         < case["stopping_distance_locked"], "OCP < ABS < locked on the snow curve"
     with open(out / "results.csv") as fh:
