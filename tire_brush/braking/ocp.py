@@ -216,7 +216,7 @@ class _Transcription:
     """
 
     def __init__(self, car: QuarterCar, fmap: ForceMap, N: int, d: int, rate_penalty: float,
-                 solver_options: dict, compile_key: str | None = None) -> None:
+                 solver_options: dict, jit: bool = False) -> None:
         import casadi as ca
 
         thermal = car.thermal is not None
@@ -273,8 +273,12 @@ class _Transcription:
         nlp = {"x": x, "p": ca.vertcat(S, T_amb, k_lo), "f": f_obj, "g": g}
         self.solver = ca.nlpsol("braking_ocp", "ipopt", nlp, solver_options)
         self.compiled = ""
-        if compile_key is not None:
-            self.solver, self.compiled = _compiled_solver(self.solver, compile_key,
+        if jit:
+            # the library is named by the NLP itself (CasADi's serialisation of its
+            # expression graph, the map's coefficients included) and CasADi's version: a
+            # changed formulation or map never loads a stale library
+            key = hashlib.sha1((self.solver.oracle().serialize() + ca.__version__).encode())
+            self.solver, self.compiled = _compiled_solver(self.solver, key.hexdigest()[:24],
                                                           solver_options)
         inf = np.inf
         self.lbg = np.concatenate([np.zeros(self.n_res), np.zeros(self.n_pts),
@@ -319,21 +323,14 @@ def _transcription(car: QuarterCar, fmap: ForceMap, N: int, d: int, rate_penalty
                    solver_options: dict, jit: bool = False) -> tuple[_Transcription, bool]:
     """The transcription for these inputs, built on first use; and whether it was reused.
 
-    With ``jit`` its NLP functions are compiled C code (:func:`_compiled_solver`), stored
-    under a hash of what defines them (car, map, mesh, penalty, CasADi version)."""
-    import casadi as ca
-
-    fingerprint = _map_fingerprint(fmap)
-    key = (car, fingerprint, N, d, rate_penalty, repr(sorted(solver_options.items())), jit)
+    With ``jit`` its NLP functions are compiled C code (:func:`_compiled_solver`)."""
+    key = (car, _map_fingerprint(fmap), N, d, rate_penalty,
+           repr(sorted(solver_options.items())), jit)
     tr = _TRANSCRIPTIONS.get(key)
     if tr is not None:
         _TRANSCRIPTIONS.move_to_end(key)
         return tr, True
-    compile_key = None
-    if jit:
-        compile_key = hashlib.sha1(repr((car, fingerprint, N, d, rate_penalty,
-                                         ca.__version__)).encode()).hexdigest()[:20]
-    tr = _Transcription(car, fmap, N, d, rate_penalty, solver_options, compile_key)
+    tr = _Transcription(car, fmap, N, d, rate_penalty, solver_options, jit)
     _TRANSCRIPTIONS[key] = tr
     while len(_TRANSCRIPTIONS) > _TRANSCRIPTIONS_KEPT:
         _TRANSCRIPTIONS.popitem(last=False)
