@@ -105,15 +105,15 @@ def bench_abs(repeat: int) -> dict:
             "rejected_steps": r.n_rejected}
 
 
-def bench_study_ocp(study: str, repeat: int, variants: tuple[str, ...] = ("compiled",)
-                    ) -> tuple[list[dict], list[dict]]:
+def bench_study_ocp(study: str, repeat: int, variants: tuple[str, ...] = ("compiled",),
+                    cases: tuple[str, ...] = ()) -> tuple[list[dict], list[dict]]:
     """The study's OCPs per case and start (the brush-map OCPs of ``abs_default``).
 
     ``variants``: ``compiled`` (``[ocp] jit = true``: the NLP's functions as C code, built
     once per case and mesh and cached on disk) and/or ``interpreted`` (CasADi's virtual
     machine). Returns the rows per case, start and variant, and per case and variant the
     median over its starts and repeats, with the ratio to the 5 s target and of the
-    compiled to the interpreted median.
+    compiled to the interpreted median. ``cases``: labels to time (empty: all).
     """
     from dataclasses import replace
 
@@ -130,6 +130,8 @@ def bench_study_ocp(study: str, repeat: int, variants: tuple[str, ...] = ("compi
     spec0 = load_study(study)
     rows, per_case = [], []
     for case in spec0.cases:
+        if cases and case.label not in cases:
+            continue
         car = spec0.car
         t0 = time.perf_counter()
         fmap, _, _ = case_force_map(spec0, case)
@@ -193,6 +195,8 @@ def main(argv=None) -> int:
                    help="study whose OCPs are timed per case and start ('none': skip)")
     p.add_argument("--variants", default="compiled,interpreted",
                    help="OCP function evaluation to time: compiled, interpreted or both")
+    p.add_argument("--cases", default="",
+                   help="comma-separated case labels of the study to time (default: all)")
     p.add_argument("--only-study", action="store_true",
                    help="time the study's OCPs only (no maps, analytic OCPs, ABS)")
     args = p.parse_args(argv)
@@ -202,7 +206,8 @@ def main(argv=None) -> int:
                "abs": bench_abs(max(1, args.repeat // 2))}
     if args.study != "none":
         out["study_ocp"], out["study_ocp_cases"] = bench_study_ocp(
-            args.study, args.repeat, tuple(args.variants.split(",")))
+            args.study, args.repeat, tuple(args.variants.split(",")),
+            tuple(c for c in args.cases.split(",") if c))
     if args.json:
         json.dump(out, sys.stdout, indent=2)
         print()
