@@ -302,3 +302,33 @@ def test_coarse_to_fine_continuation_finds_the_same_optimum(dry_map):
     assert cont.t.size == 101
     assert cont.extra["coarse"]["intervals"] == 25
     assert cont.iterations > cont.extra["coarse"]["iterations"]
+
+
+def test_one_transcription_serves_other_speeds_and_guesses(monkeypatch, tmp_path):
+    """The NLP is built once per car, map and mesh and solved for other initial speeds, end
+    speeds and slip bounds through its parameters and bounds: a stop solved on a reused
+    transcription is the stop solved on a fresh one (1e-9: the same NLP and starting point
+    give IPOPT the same iterates; what is left is rounding). Compiled to C (a C compiler on
+    this machine) or interpreted, the NLP's functions are the same expressions: the stops
+    agree to IPOPT's tolerance (1e-8 on the scaled distance)."""
+    from tire_brush.braking import ocp as ocp_module
+
+    monkeypatch.setenv("TIREFRIC_CACHE", str(tmp_path))
+    fm = force_map(magic_formula_road("asphalt_wet"), REAL)
+    plain = OCPSettings(intervals=30, coarse_intervals=0, jit=False)
+    ocp_module._TRANSCRIPTIONS.clear()
+    solve_braking_ocp(REAL, fm, V0, V_STOP, T_AMB, settings=plain)
+    reused = solve_braking_ocp(REAL, fm, 20.0, 2.0, T_AMB, settings=plain)
+    assert reused.extra["solver_reused"]
+    ocp_module._TRANSCRIPTIONS.clear()
+    fresh = solve_braking_ocp(REAL, fm, 20.0, 2.0, T_AMB, settings=plain)
+    assert not fresh.extra["solver_reused"]
+    assert reused.stopping_distance == pytest.approx(fresh.stopping_distance, rel=1e-9)
+    assert reused.v[0] == pytest.approx(20.0) and reused.v[-1] == pytest.approx(2.0)
+
+    compiled = solve_braking_ocp(REAL, fm, 20.0, 2.0, T_AMB,
+                                 settings=OCPSettings(intervals=30, coarse_intervals=0))
+    if compiled.extra["compiled"].startswith("not compiled"):
+        pytest.skip(compiled.extra["compiled"])
+    assert compiled.extra["compiled"].startswith(str(tmp_path))
+    assert compiled.stopping_distance == pytest.approx(fresh.stopping_distance, rel=1e-7)
