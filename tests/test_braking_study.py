@@ -116,6 +116,13 @@ def test_cli_study_end_to_end(tmp_path, capsys):
     assert (out / "trajectories" / "snow_20C.csv").is_file()
 
 
+def test_spec_reads_ocp_jit(tmp_path):
+    p = write_spec(tmp_path)
+    assert load_study(p).ocp.jit
+    p.write_text(p.read_text().replace("intervals = 40", "intervals = 40\njit = false"))
+    assert not load_study(p).ocp.jit
+
+
 def test_cli_bad_spec_exits_2(tmp_path, capsys):
     p = write_spec(tmp_path, extra="[map]\nloads_rel = [0.5, 0.8]\n")
     assert main(["abs", "study", str(p), "-o", str(tmp_path / "o")]) == 2
