@@ -204,7 +204,7 @@ def test_ocp_optimality_check_names_what_beats_it():
     msg = ocp_optimality(49.43, 47.0, {"abs": 48.58, "locked": 49.5})
     assert msg.startswith("not proven") and "abs stops in 48.580 m" in msg
     assert "locked" not in msg
-    assert "below the point-mass bound" in ocp_optimality(30.0, 33.0, {"abs": 35.0})
+    assert "below the lower bound 33.000 m" in ocp_optimality(30.0, 33.0, {"abs": 35.0})
 
 
 def test_tread_heating_along_a_stop_closed_forms():
