@@ -3,13 +3,16 @@
 Targets: OCP solve <= 5 s for 200 collocation intervals. Run:
 
     python benchmarks/bench_braking.py [--repeat 5] [--json] [--study abs_default]
+        [--variants compiled,interpreted] [--only-study]
 
 Reports medians over the repeats: the B-spline force-map build (tabulation of an analytic
 source + scipy coefficient fit + CasADi function) at three sizes, the OCP (IPOPT wall time and
 NLP set-up) at 200 intervals for two road curves, one rule-based-ABS simulation, and per case
 of a study (``--study``, default the brush-tire study ``abs_default``; ``--study none`` skips
 it) the OCP from each of the study's starts on that case's force map (median solve and
-set-up time, iterations, distance; a start that fails is counted and named).
+set-up time, iterations, distance; a start that fails is counted and named), with the NLP's
+functions compiled to C and interpreted, and per case the median over the starts with its
+ratio to the 5 s target and of compiled to interpreted.
 """
 
 from __future__ import annotations
@@ -35,6 +38,8 @@ from tire_brush.braking import (
 from tire_brush.braking.reference import burckhardt_road, magic_formula_road
 
 V0, V_STOP, T_AMB = 100 / 3.6, 1.0, 293.15
+#: Target of the OCP solve time at 200 intervals [s].
+TARGET_S = 5.0
 CAR = QuarterCar(mass=450.0, wheel_inertia=1.2, radius=0.31, brake_torque_max=3000.0,
                  brake_torque_rate_max=2e4)
 
@@ -100,8 +105,18 @@ def bench_abs(repeat: int) -> dict:
             "rejected_steps": r.n_rejected}
 
 
-def bench_study_ocp(study: str, repeat: int) -> list[dict]:
-    """The study's OCPs per case and start (the brush-map OCPs of ``abs_default``)."""
+def bench_study_ocp(study: str, repeat: int, variants: tuple[str, ...] = ("compiled",),
+                    cases: tuple[str, ...] = ()) -> tuple[list[dict], list[dict]]:
+    """The study's OCPs per case and start (the brush-map OCPs of ``abs_default``).
+
+    ``variants``: ``compiled`` (``[ocp] jit = true``: the NLP's functions as C code, built
+    once per case and mesh and cached on disk) and/or ``interpreted`` (CasADi's virtual
+    machine). Returns the rows per case, start and variant, and per case and variant the
+    median over its starts and repeats, with the ratio to the 5 s target and of the
+    compiled to the interpreted median. ``cases``: labels to time (empty: all).
+    """
+    from dataclasses import replace
+
     from lookup.errors import ConvergenceError
     from tire_brush.braking.abs_control import LockedWheel, RuleBasedABS
     from tire_brush.braking.slip_map import optimal_slip
@@ -112,50 +127,64 @@ def bench_study_ocp(study: str, repeat: int) -> list[dict]:
         solve_ocp_from_starts,
     )
 
-    spec = load_study(study)
-    rows = []
-    for case in spec.cases:
-        car = spec.car
+    spec0 = load_study(study)
+    rows, per_case = [], []
+    for case in spec0.cases:
+        if cases and case.label not in cases:
+            continue
+        car = spec0.car
         t0 = time.perf_counter()
-        fmap, _, _ = case_force_map(spec, case)
+        fmap, _, _ = case_force_map(spec0, case)
         t_map = time.perf_counter() - t0
-        sm = optimal_slip(fmap, np.geomspace(spec.v_stop, spec.v0, 25), [car.Fz], [case.T_K])
-        sched = abs_slip_schedule(sm) if spec.abs_slip_from_map else None
+        sm = optimal_slip(fmap, np.geomspace(spec0.v_stop, spec0.v0, 25), [car.Fz], [case.T_K])
+        sched = abs_slip_schedule(sm) if spec0.abs_slip_from_map else None
         locked = simulate_braking(car, fmap, LockedWheel(car.brake_torque_rate_max,
-                                                         spec.abs_params.control_period),
-                                  spec.v0, spec.v_stop, case.T_K, settings=spec.simulation)
-        abs_sim = simulate_braking(car, fmap, RuleBasedABS(spec.abs_params, car.radius,
+                                                         spec0.abs_params.control_period),
+                                  spec0.v0, spec0.v_stop, case.T_K, settings=spec0.simulation)
+        abs_sim = simulate_braking(car, fmap, RuleBasedABS(spec0.abs_params, car.radius,
                                                            car.brake_torque_rate_max,
                                                            slip_schedule=sched),
-                                   spec.v0, spec.v_stop, case.T_K, settings=spec.simulation)
-        per_start: dict[str, dict] = {}
-        for _ in range(repeat):
-            try:
-                _, _, tried = solve_ocp_from_starts(spec, case, fmap, locked, abs_sim)
-            except ConvergenceError as exc:
-                tried = getattr(exc, "tried", {})
-            for start, info in tried.items():
-                if "skipped" in info:
-                    continue
-                d = per_start.setdefault(start, {"solve": [], "setup": [], "iter": [],
-                                                 "dist": [], "failed": 0})
-                if "failed" in info:
-                    d["failed"] += 1
-                    continue
-                d["solve"].append(info["solve_time_s"])
-                d["setup"].append(info.get("setup_time_s", float("nan")))
-                d["iter"].append(info["iterations"])
-                d["dist"].append(info["stopping_distance"])
-        for start, d in per_start.items():
-            ok = bool(d["solve"])
-            rows.append({"case": case.label, "start": start, "intervals": spec.ocp.intervals,
-                         "map_build_s": t_map,
-                         "solve_s_median": statistics.median(d["solve"]) if ok else None,
-                         "setup_s_median": statistics.median(d["setup"]) if ok else None,
-                         "iterations": int(statistics.median(d["iter"])) if ok else None,
-                         "stopping_distance_m": d["dist"][-1] if ok else None,
-                         "failed": d["failed"]})
-    return rows
+                                   spec0.v0, spec0.v_stop, case.T_K, settings=spec0.simulation)
+        medians = {}
+        for variant in variants:
+            spec = replace(spec0, ocp=replace(spec0.ocp, jit=variant == "compiled"))
+            per_start: dict[str, dict] = {}
+            for _ in range(repeat):
+                try:
+                    _, _, tried = solve_ocp_from_starts(spec, case, fmap, locked, abs_sim)
+                except ConvergenceError as exc:
+                    tried = getattr(exc, "tried", {})
+                for start, info in tried.items():
+                    if "skipped" in info:
+                        continue
+                    d = per_start.setdefault(start, {"solve": [], "setup": [], "iter": [],
+                                                     "dist": [], "failed": 0})
+                    if "failed" in info:
+                        d["failed"] += 1
+                        continue
+                    d["solve"].append(info["solve_time_s"])
+                    d["setup"].append(info.get("setup_time_s", float("nan")))
+                    d["iter"].append(info["iterations"])
+                    d["dist"].append(info["stopping_distance"])
+            every = []
+            for start, d in per_start.items():
+                ok = bool(d["solve"])
+                every += d["solve"]
+                rows.append({"case": case.label, "start": start, "variant": variant,
+                             "intervals": spec.ocp.intervals, "map_build_s": t_map,
+                             "solve_s_median": statistics.median(d["solve"]) if ok else None,
+                             "setup_s_max": max(d["setup"]) if ok else None,
+                             "iterations": int(statistics.median(d["iter"])) if ok else None,
+                             "stopping_distance_m": d["dist"][-1] if ok else None,
+                             "failed": d["failed"]})
+            medians[variant] = statistics.median(every) if every else None
+        row = {"case": case.label, **{f"solve_s_median_{v}": m for v, m in medians.items()}}
+        for v, m in medians.items():
+            row[f"ratio_to_target_{v}"] = None if m is None else m / TARGET_S
+        if medians.get("compiled") and medians.get("interpreted"):
+            row["ratio_compiled_to_interpreted"] = medians["compiled"] / medians["interpreted"]
+        per_case.append(row)
+    return rows, per_case
 
 
 def main(argv=None) -> int:
@@ -164,37 +193,62 @@ def main(argv=None) -> int:
     p.add_argument("--json", action="store_true")
     p.add_argument("--study", default="abs_default",
                    help="study whose OCPs are timed per case and start ('none': skip)")
+    p.add_argument("--variants", default="compiled,interpreted",
+                   help="OCP function evaluation to time: compiled, interpreted or both")
+    p.add_argument("--cases", default="",
+                   help="comma-separated case labels of the study to time (default: all)")
+    p.add_argument("--only-study", action="store_true",
+                   help="time the study's OCPs only (no maps, analytic OCPs, ABS)")
     args = p.parse_args(argv)
-    out = {"maps": bench_maps(args.repeat), "ocp": bench_ocp(args.repeat),
-           "abs": bench_abs(max(1, args.repeat // 2))}
+    out: dict = {}
+    if not args.only_study:
+        out = {"maps": bench_maps(args.repeat), "ocp": bench_ocp(args.repeat),
+               "abs": bench_abs(max(1, args.repeat // 2))}
     if args.study != "none":
-        out["study_ocp"] = bench_study_ocp(args.study, args.repeat)
+        out["study_ocp"], out["study_ocp_cases"] = bench_study_ocp(
+            args.study, args.repeat, tuple(args.variants.split(",")),
+            tuple(c for c in args.cases.split(",") if c))
     if args.json:
         json.dump(out, sys.stdout, indent=2)
         print()
         return 0
-    print("force map build (tabulate + scipy tensor B-spline + CasADi function), median:")
-    for r in out["maps"]:
-        print(f"  {r['map']:28s} {r['nodes']:7d} nodes  {1e3 * r['build_s_median']:8.1f} ms")
-    print("OCP, 200 intervals, Legendre degree 3, IPOPT (target <= 5 s), median:")
-    for r in out["ocp"]:
-        print(f"  {r['curve']:32s} solve {r['solve_s_median']:.2f} s  set-up "
-              f"{r['setup_s_median']:.2f} s  {r['iterations']} iterations  "
-              f"d = {r['stopping_distance_m']:.2f} m")
-    a = out["abs"]
-    print(f"rule-based ABS simulation: {a['abs_simulation_s_median']:.2f} s for {a['steps']} "
-          f"steps of at most {1e3 * a['dt_s']:.2f} ms ({a['rejected_steps']} rejected)")
+    if "maps" in out:
+        print("force map build (tabulate + scipy tensor B-spline + CasADi function), median:")
+        for r in out["maps"]:
+            print(f"  {r['map']:28s} {r['nodes']:7d} nodes  "
+                  f"{1e3 * r['build_s_median']:8.1f} ms")
+        print("OCP, 200 intervals, Legendre degree 3, IPOPT (target <= 5 s), median:")
+        for r in out["ocp"]:
+            print(f"  {r['curve']:32s} solve {r['solve_s_median']:.2f} s  set-up "
+                  f"{r['setup_s_median']:.2f} s  {r['iterations']} iterations  "
+                  f"d = {r['stopping_distance_m']:.2f} m")
+        a = out["abs"]
+        print(f"rule-based ABS simulation: {a['abs_simulation_s_median']:.2f} s for "
+              f"{a['steps']} steps of at most {1e3 * a['dt_s']:.2f} ms "
+              f"({a['rejected_steps']} rejected)")
     if "study_ocp" in out:
-        print(f"study {args.study}: OCP per case and start, {args.repeat} repeat(s), median "
-              "(target <= 5 s):")
+        print(f"study {args.study}: OCP per case, start and variant, {args.repeat} repeat(s), "
+              f"median (target <= {TARGET_S:g} s; set-up: the largest, the first build and "
+              "compilation included):")
         for r in out["study_ocp"]:
+            head = f"  {r['case']:20s} {r['start']:13s} {r['variant']:11s}"
             if r["solve_s_median"] is None:
-                print(f"  {r['case']:22s} {r['start']:13s} failed {r['failed']}x")
+                print(f"{head} failed {r['failed']}x")
                 continue
-            print(f"  {r['case']:22s} {r['start']:13s} solve {r['solve_s_median']:6.2f} s  "
-                  f"set-up {r['setup_s_median']:.2f} s  {r['iterations']:4d} iterations  "
-                  f"d = {r['stopping_distance_m']:.2f} m"
+            print(f"{head} solve {r['solve_s_median']:6.2f} s  set-up {r['setup_s_max']:5.2f} s"
+                  f"  {r['iterations']:4d} iterations  d = {r['stopping_distance_m']:.3f} m"
                   + (f"  ({r['failed']} failed)" if r["failed"] else ""))
+        print("per case: median over starts and repeats, ratio to the target, compiled over "
+              "interpreted:")
+        for r in out["study_ocp_cases"]:
+            parts = [f"{k.removeprefix('solve_s_median_')} {v:.2f} s" if v is not None
+                     else f"{k.removeprefix('solve_s_median_')} all failed"
+                     for k, v in r.items() if k.startswith("solve_s_median_")]
+            parts += [f"{k.removeprefix('ratio_to_target_')}/target {v:.2f}"
+                      for k, v in r.items() if k.startswith("ratio_to_target_") and v]
+            if "ratio_compiled_to_interpreted" in r:
+                parts.append(f"compiled/interpreted {r['ratio_compiled_to_interpreted']:.2f}")
+            print(f"  {r['case']:20s} " + "  ".join(parts))
     return 0
 
 

@@ -97,6 +97,13 @@ def test_cli_study_end_to_end(tmp_path, capsys):
         assert 0 < case[key] < 200, f"JSON key {key}: a stopping distance in metres"
     assert -1 < case["optimal_slip"] < 0, "braking slip of the force maximum, in (-1, 0)"
     assert case["point_mass_bound"] <= case["stopping_distance_ocp"] * 1.001
+    # the bound with the brake torque's build-up is tighter and still holds (0.1 %: the
+    # spline's error at the peak and the collocation error at 40 intervals)
+    assert case["point_mass_bound"] < case["ramp_bound"] \
+        <= case["stopping_distance_ocp"] * 1.001
+    assert case["ramp_bound_reachable"] <= case["ramp_bound"]
+    assert case["ocp_bound_gap"] == pytest.approx(
+        case["stopping_distance_ocp"] / case["ramp_bound_reachable"] - 1.0, rel=1e-9)
     assert case["stopping_distance_ocp"] < case["stopping_distance_abs"] \
         < case["stopping_distance_locked"], "OCP < ABS < locked on the snow curve"
     with open(out / "results.csv") as fh:
@@ -108,6 +115,13 @@ def test_cli_study_end_to_end(tmp_path, capsys):
         assert (out / "plots" / name).stat().st_size > 1000, f"plot {name}"
     assert (out / "slip_maps" / "snow_20C.csv").is_file()
     assert (out / "trajectories" / "snow_20C.csv").is_file()
+
+
+def test_spec_reads_ocp_jit(tmp_path):
+    p = write_spec(tmp_path)
+    assert load_study(p).ocp.jit
+    p.write_text(p.read_text().replace("intervals = 40", "intervals = 40\njit = false"))
+    assert not load_study(p).ocp.jit
 
 
 def test_cli_bad_spec_exits_2(tmp_path, capsys):
@@ -149,8 +163,10 @@ def test_shipped_brush_study_runs(tmp_path):
         assert c["stopping_distance_ocp"] < c["stopping_distance_locked"], c["case"]
         assert -1.0 < c["optimal_slip"] < 0.0, c["case"]
         # the kept optimum beats every simulated strategy (idealised and realistic ABS,
-        # locked) and respects the point-mass bound of its tread temperatures (0.2 %)
+        # locked) and respects the lower bound with the brake's ramp at its tread
+        # temperatures (0.2 %), which is tighter than the point-mass bound
         assert c["ocp_optimality"] == "verified", (c["case"], c["ocp_optimality"])
+        assert c["point_mass_bound"] < c["ramp_bound"] < c["stopping_distance_ocp"], c["case"]
         assert c["stopping_distance_ocp"] < c["stopping_distance_abs_realistic"], c["case"]
 
 

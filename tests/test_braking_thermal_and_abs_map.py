@@ -159,7 +159,8 @@ def test_starts_after_a_verified_optimum_are_skipped():
 def test_spec_reads_the_new_keys_and_refuses_misuse(tmp_path):
     spec = load_study("abs_default")
     assert spec.abs_slip_from_map and spec.fmu_abs and spec.ocp_starts == (
-        "deceleration", "locked", "abs")
+        "locked", "deceleration", "abs")
+    assert spec.ocp.jit, "the OCP's functions are compiled unless a spec says otherwise"
     assert "dt_internal" not in spec.fmu, "the FMU runs at its own (converged) defaults"
     assert spec.fmu["step"] == pytest.approx(1e-3)
     text = (models_dir() / "studies" / "abs_analytic.toml").read_text().replace(
@@ -203,7 +204,7 @@ def test_ocp_optimality_check_names_what_beats_it():
     msg = ocp_optimality(49.43, 47.0, {"abs": 48.58, "locked": 49.5})
     assert msg.startswith("not proven") and "abs stops in 48.580 m" in msg
     assert "locked" not in msg
-    assert "below the point-mass bound" in ocp_optimality(30.0, 33.0, {"abs": 35.0})
+    assert "below the lower bound 33.000 m" in ocp_optimality(30.0, 33.0, {"abs": 35.0})
 
 
 def test_tread_heating_along_a_stop_closed_forms():

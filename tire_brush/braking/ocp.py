@@ -33,9 +33,16 @@ temperature); :func:`tire_brush.braking.study.solve_ocp_from_starts` starts from
 
 from __future__ import annotations
 
+import hashlib
 import math
+import os
+import shutil
+import subprocess
+import tempfile
 import time
+from collections import OrderedDict
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -84,6 +91,11 @@ class OCPSettings:
     max_wall_time : float
         IPOPT's wall-time limit per solve [s] (a start that wanders fails instead of holding
         up the study; the coarse solve of the continuation gets a quarter of it).
+    jit : bool
+        Solve with the NLP's functions compiled to C (:func:`_compiled_solver`; cached on
+        disk, built once per car, map and mesh) when a C compiler is at hand; otherwise, or
+        when the build fails, CasADi's interpreted functions (the same expressions: the
+        result does not depend on it; ``OCPResult.extra["compiled"]`` says which ran).
     """
 
     intervals: int = 200
@@ -95,6 +107,7 @@ class OCPSettings:
     coarse_intervals: int = 50
     guess_smoothing: float = 0.1
     max_wall_time: float = 120.0
+    jit: bool = True
 
     def __post_init__(self) -> None:
         if self.intervals < 5:
@@ -133,7 +146,9 @@ class OCPResult:
     solve_time_s : float
         Wall time of IPOPT [s] (the problem set-up excluded, see ``setup_time_s``).
     setup_time_s : float
-        Wall time of building the NLP [s].
+        Wall time of building the NLP [s]: the initial guess and bounds, and on first use
+        of a car, map and mesh its transcription (on the very first, compiling it:
+        ``OCPSettings.jit``); later solves of the same transcription reuse it.
     iterations : int
         IPOPT iterations.
     status : str
@@ -186,6 +201,191 @@ def _collocation(d: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return C, D, B
 
 
+class _Transcription:
+    """The collocation NLP of the module doc at N intervals, built once and solved many times.
+
+    The decision vector is ``[vec(Z), vec(Zc), W, t_f]`` (scaled states at the interval
+    boundaries and at the collocation points, scaled torque rate per interval, final time);
+    the parameters are the state scales, the ambient temperature and the slip bound
+    (``kappa_lo``). Everything that changes from one solve to the next (initial state,
+    ``v0``, ``v_stop``, the slip bound, the range of ``t_f``, the initial guess) enters as a
+    parameter, a variable bound or the starting point, so one IPOPT instance serves every
+    start of a case (:func:`_transcription` keeps them). Simple bounds (speed above
+    ``v_stop``, torque in ``[0, T_b,max]``, torque rate, the fixed initial state) are
+    variable bounds, which IPOPT handles without slack variables; only the slip bound
+    ``kappa_lo v <= omega R - v <= 0`` (two linear inequalities per point) remains a
+    constraint beside the collocation equations.
+    """
+
+    def __init__(self, car: QuarterCar, fmap: ForceMap, N: int, d: int, rate_penalty: float,
+                 solver_options: dict, jit: bool = False) -> None:
+        import casadi as ca
+
+        thermal = car.thermal is not None
+        nx = 5 if thermal else 4
+        R, u_max = car.radius, car.brake_torque_rate_max
+        self.N, self.d, self.nx, self.thermal = N, d, nx, thermal
+        t0 = time.perf_counter()
+        S = ca.MX.sym("S", nx)                      # scales of the states
+        T_amb = ca.MX.sym("T_amb")
+        k_lo = ca.MX.sym("kappa_lo")
+        Z = ca.MX.sym("Z", nx, N + 1)
+        Zc = ca.MX.sym("Zc", nx, N * d)
+        W = ca.MX.sym("W", 1, N)
+        tf = ca.MX.sym("tf")
+
+        # friction at all collocation points in one mapped call
+        vc, wc = Zc[1, :] * S[1], Zc[2, :] * S[2]
+        kc = slip(vc, wc, R)
+        Tc = Zc[4, :] * S[4] if thermal else ca.repmat(T_amb, 1, N * d)
+        muc = fmap.casadi_function().map(N * d)(kc, vc, ca.DM.ones(1, N * d) * car.Fz, Tc)
+
+        # one interval's collocation and continuity residuals, in scaled variables, as an SX
+        # function mapped over the N intervals (a small expression graph: fast derivatives)
+        C, Dc, _ = _collocation(d)
+        zk, zk1, Ss = ca.SX.sym("zk", nx), ca.SX.sym("zk1", nx), ca.SX.sym("S", nx)
+        zc = ca.SX.sym("zc", nx, d)
+        w_k, tf_s, mu_s, Ta = ca.SX.sym("w"), ca.SX.sym("tf"), ca.SX.sym("mu", 1, d), \
+            ca.SX.sym("Ta")
+        pts = [zk * Ss] + [zc[:, j] * Ss for j in range(d)]
+        res = []
+        for j in range(1, d + 1):
+            xp = sum(C[r, j] * pts[r] for r in range(d + 1))
+            xj = pts[j]
+            f = rhs(car, mu_s[j - 1], xj[1], xj[2], xj[3], w_k * u_max,
+                    xj[4] if thermal else 0.0, Ta)
+            fvec = ca.vertcat(*f[:4], *([f[4]] if thermal else []))
+            res.append((xp - tf_s / N * fvec) / Ss)
+        xend = sum(Dc[r] * pts[r] for r in range(d + 1))
+        res.append((zk1 * Ss - xend) / Ss)
+        interval = ca.Function("interval", [zk, zc, zk1, w_k, tf_s, mu_s, Ss, Ta],
+                               [ca.vertcat(*res)])
+        residuals = interval.map(N)(Z[:, :N], Zc, Z[:, 1:], W, tf, muc, S, T_amb)
+
+        # slip bound kappa_lo v <= omega R - v <= 0 at boundaries and collocation points,
+        # scaled by v0 (linear in the scaled states)
+        Za = ca.horzcat(Z, Zc)
+        creep = (Za[2, :] * S[2] * R - Za[1, :] * S[1]) / S[1]
+        g = ca.vertcat(ca.vec(residuals), ca.vec(creep - k_lo * Za[1, :]), ca.vec(creep))
+        self.n_res = nx * (d + 1) * N
+        self.n_pts = (N + 1) + N * d
+        x = ca.vertcat(ca.vec(Z), ca.vec(Zc), ca.vec(W), tf)
+        self.n_x = x.numel()
+        f_obj = Z[0, N] + rate_penalty * ca.sumsqr(W) / N
+        nlp = {"x": x, "p": ca.vertcat(S, T_amb, k_lo), "f": f_obj, "g": g}
+        self.solver = ca.nlpsol("braking_ocp", "ipopt", nlp, solver_options)
+        self.compiled = ""
+        if jit:
+            # the library is named by the NLP itself (CasADi's serialisation of its
+            # expression graph, the map's coefficients included) and CasADi's version: a
+            # changed formulation or map never loads a stale library
+            key = hashlib.sha1((self.solver.oracle().serialize() + ca.__version__).encode())
+            self.solver, self.compiled = _compiled_solver(self.solver, key.hexdigest()[:24],
+                                                          solver_options)
+        inf = np.inf
+        self.lbg = np.concatenate([np.zeros(self.n_res), np.zeros(self.n_pts),
+                                   np.full(self.n_pts, -inf)])
+        self.ubg = np.concatenate([np.zeros(self.n_res), np.full(self.n_pts, inf),
+                                   np.zeros(self.n_pts)])
+        self.build_time_s = time.perf_counter() - t0
+
+    def pack(self, Z, Zc, W, tf) -> np.ndarray:
+        """Decision vector from its parts (CasADi's column-major ``vec``)."""
+        return np.concatenate([np.asarray(Z).ravel(order="F"), np.asarray(Zc).ravel(order="F"),
+                               np.asarray(W).ravel(), [float(tf)]])
+
+    def unpack(self, x) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+        """``(Z, Zc, W, tf)`` from a decision vector."""
+        x = np.asarray(x, dtype=float).ravel()
+        nx, N, d = self.nx, self.N, self.d
+        a, b = nx * (N + 1), nx * (N + 1) + nx * N * d
+        return (x[:a].reshape((nx, N + 1), order="F"), x[a:b].reshape((nx, N * d), order="F"),
+                x[b:b + N], float(x[-1]))
+
+
+#: Transcriptions built in this process (:func:`_transcription`), least recently used first.
+_TRANSCRIPTIONS: OrderedDict[tuple, _Transcription] = OrderedDict()
+#: How many are kept (each holds one IPOPT instance: a few MB).
+_TRANSCRIPTIONS_KEPT = 8
+
+
+def _map_fingerprint(fmap: ForceMap) -> str:
+    """Hash of what a force map's CasADi function is made of (knots, coefficients, degrees,
+    clamping ranges): equal maps give the same transcription."""
+    h = hashlib.sha1()
+    for k in fmap.knots:
+        h.update(np.ascontiguousarray(k, dtype=float).tobytes())
+    h.update(np.ascontiguousarray(fmap.coefficients, dtype=float).tobytes())
+    h.update(repr((fmap.active, fmap.degrees,
+                   [fmap.bounds(n) for n in fmap.axes])).encode())
+    return h.hexdigest()
+
+
+def _transcription(car: QuarterCar, fmap: ForceMap, N: int, d: int, rate_penalty: float,
+                   solver_options: dict, jit: bool = False) -> tuple[_Transcription, bool]:
+    """The transcription for these inputs, built on first use; and whether it was reused.
+
+    With ``jit`` its NLP functions are compiled C code (:func:`_compiled_solver`)."""
+    key = (car, _map_fingerprint(fmap), N, d, rate_penalty,
+           repr(sorted(solver_options.items())), jit)
+    tr = _TRANSCRIPTIONS.get(key)
+    if tr is not None:
+        _TRANSCRIPTIONS.move_to_end(key)
+        return tr, True
+    tr = _Transcription(car, fmap, N, d, rate_penalty, solver_options, jit)
+    _TRANSCRIPTIONS[key] = tr
+    while len(_TRANSCRIPTIONS) > _TRANSCRIPTIONS_KEPT:
+        _TRANSCRIPTIONS.popitem(last=False)
+    return tr, False
+
+
+def _cache_dir() -> Path:
+    """Folder of the compiled OCPs: ``$TIREFRIC_CACHE/braking_ocp`` (the tire core's cache
+    root, default ``~/.cache/tirefric``)."""
+    root = Path(os.environ.get("TIREFRIC_CACHE", Path.home() / ".cache" / "tirefric"))
+    return root / "braking_ocp"
+
+
+def _compiled_solver(solver: Any, key: str, solver_options: dict) -> tuple[Any, str]:
+    """``solver`` with its NLP functions (the NLP, objective gradient, constraint Jacobian,
+    Lagrangian Hessian) as compiled C code, and the library's path; or ``solver`` itself and
+    why not (no C compiler, a failed build).
+
+    The C code is CasADi's code generation of the same expressions (the results are those
+    of the interpreted functions to rounding); the library is built once per ``key`` with
+    the system's C compiler (``cc -O1``) into :func:`_cache_dir` and loaded by every later
+    transcription with the same key, in this and in other processes (the study's case
+    workers, later runs). Measured on the brush-map study: derivatives 3-4x faster than
+    CasADi's virtual machine.
+    """
+    import casadi as ca
+
+    cc = shutil.which(os.environ.get("CC", "cc")) or shutil.which("gcc")
+    if cc is None:
+        return solver, "not compiled: no C compiler (cc, gcc) on the PATH"
+    folder = _cache_dir()
+    name = f"braking_ocp_{key}"
+    lib = folder / f"{name}.so"
+    try:
+        if not lib.is_file():
+            folder.mkdir(parents=True, exist_ok=True)
+            with tempfile.TemporaryDirectory(dir=folder) as tmp:
+                cg = ca.CodeGenerator(f"{name}.c", {"with_header": False})
+                cg.add(solver.oracle())
+                for fn in ("nlp_f", "nlp_g", "nlp_grad_f", "nlp_jac_g", "nlp_hess_l",
+                           "nlp_grad"):
+                    cg.add(solver.get_function(fn))
+                cg.generate(tmp + os.sep)
+                out = Path(tmp) / f"{name}.so"
+                subprocess.run([cc, "-O1", "-shared", "-fPIC", str(Path(tmp) / f"{name}.c"),
+                                "-o", str(out)], check=True, capture_output=True)
+                os.replace(out, lib)        # atomic: a parallel worker sees all or nothing
+        return ca.nlpsol("braking_ocp", "ipopt", str(lib), solver_options), str(lib)
+    except (OSError, RuntimeError, subprocess.CalledProcessError) as exc:
+        detail = getattr(exc, "stderr", b"") or b""
+        return solver, f"not compiled: {exc} {detail.decode(errors='replace')[:200]}".strip()
+
+
 def solve_braking_ocp(
     car: QuarterCar,
     force_map: ForceMap,
@@ -221,19 +421,17 @@ def solve_braking_ocp(
         Extra IPOPT options (``{"ipopt.mu_strategy": "adaptive"}``, ...).
     initial_guess
         A simulated stop of the same car on the same map (a :class:`.simulation.SimResult`:
-        ``t``, ``x``, ``v``, ``omega``, ``brake_torque``, ``T_tread``, ``stop_time``) to
-        start from instead of the constant-deceleration guess (module doc). It satisfies the
-        dynamics and the bounds, which a rough friction map (a glassy compound's stick-slip
-        branches) needs: from the constant-deceleration guess IPOPT can end in restoration
-        failures there.
+        ``t``, ``x``, ``v``, ``omega``, ``brake_torque``, ``T_tread``, ``stop_time``) or an
+        :class:`OCPResult` to start from instead of the constant-deceleration guess (module
+        doc). It satisfies the dynamics and the bounds, which a rough friction map (a glassy
+        compound's stick-slip branches) needs: from the constant-deceleration guess IPOPT can
+        end in restoration failures there.
 
     Raises
     ------
     ConvergenceError
         IPOPT did not find an optimal point.
     """
-    import casadi as ca
-
     settings = settings or OCPSettings()
     if not (v0 > v_stop > 0):
         raise InputError("need v0 > v_stop > 0 m/s", field="v0, v_stop", value=(v0, v_stop))
@@ -266,64 +464,30 @@ def solve_braking_ocp(
 
     # scales of the decision variables
     sx = np.array([d_ref, v0, v0 / R, car.brake_torque_max] + ([T_ambient] if thermal else []))
-    nx = sx.size
     u_max = car.brake_torque_rate_max
 
-    opti = ca.Opti()
-    Z = opti.variable(nx, N + 1)                  # scaled states at interval boundaries
-    Zc = opti.variable(nx, N * d)                 # scaled states at collocation points
-    W = opti.variable(1, N)                       # scaled torque rate u / u_max
-    tf = opti.variable()
-    S = ca.DM(sx)
-    X = Z * ca.repmat(S, 1, N + 1)
-    Xc = Zc * ca.repmat(S, 1, N * d)
-
-    # friction at all collocation points in one mapped call
-    vc, wc = Xc[1, :], Xc[2, :]
-    kc = slip(vc, wc, R)
-    Tc = Xc[4, :] if thermal else ca.DM.ones(1, N * d) * T_ambient
     # the load is fixed (and the temperature without the thermal state): an exact slice of
     # the map has fewer spline axes, so fewer coefficients per evaluation (ForceMap.fixed)
     fixed = {"Fz": Fz} if thermal else {"Fz": Fz, "T_K": T_ambient}
-    fmap = force_map.fixed(**fixed).casadi_function().map(N * d)
-    muc = fmap(kc, vc, ca.DM.ones(1, N * d) * Fz, Tc)
+    opts = {"ipopt.print_level": 5 if verbose else 0, "print_time": False,
+            "ipopt.sb": "yes", "ipopt.tol": settings.tol, "ipopt.max_iter": settings.max_iter,
+            "ipopt.max_wall_time": settings.max_wall_time,
+            **(ipopt_options or {})}
+    tr, reused = _transcription(car, force_map.fixed(**fixed), N, d, settings.rate_penalty,
+                                opts, settings.jit)
 
-    # one interval's collocation and continuity residuals, in scaled variables, as an SX
-    # function mapped over the N intervals (a small expression graph: fast derivatives)
-    C, Dc, _ = _collocation(d)
-    zk, zk1 = ca.SX.sym("zk", nx), ca.SX.sym("zk1", nx)
-    zc = ca.SX.sym("zc", nx, d)
-    w_k, tf_s, mu_s = ca.SX.sym("w"), ca.SX.sym("tf"), ca.SX.sym("mu", 1, d)
-    Ssx = ca.DM(sx)
-    pts = [zk * Ssx] + [zc[:, j] * Ssx for j in range(d)]
-    res = []
-    for j in range(1, d + 1):
-        xp = sum(C[r, j] * pts[r] for r in range(d + 1))
-        xj = pts[j]
-        f = rhs(car, mu_s[j - 1], xj[1], xj[2], xj[3], w_k * u_max,
-                xj[4] if thermal else 0.0, T_ambient)
-        fvec = ca.vertcat(*f[:4], *([f[4]] if thermal else []))
-        res.append((xp - tf_s / N * fvec) / Ssx)
-    xend = sum(Dc[r] * pts[r] for r in range(d + 1))
-    res.append((zk1 * Ssx - xend) / Ssx)
-    interval = ca.Function("interval", [zk, zc, zk1, w_k, tf_s, mu_s], [ca.vertcat(*res)])
-    residuals = interval.map(N)(Z[:, :N], Zc, Z[:, 1:], W, tf, muc)
-    opti.subject_to(ca.vec(residuals) == 0)
-
-    # boundary conditions
-    x0 = [0.0, v0, v0 / R, brake_torque_initial] + ([T_ambient] if thermal else [])
-    opti.subject_to(Z[:, 0] == ca.DM(np.array(x0) / sx))
-    opti.subject_to(Z[1, N] == v_stop / v0)
-    # path constraints at boundaries and collocation points
-    for ZZ in (Z, Zc):
-        v_s, w_s = ZZ[1, :] * v0, ZZ[2, :] * (v0 / R)
-        opti.subject_to(ZZ[1, :] >= v_stop / v0)
-        opti.subject_to(opti.bounded(kappa_lo * v_s, w_s * R - v_s, 0))
-        opti.subject_to(opti.bounded(0, ZZ[3, :], 1))
-    opti.subject_to(opti.bounded(-1, W, 1))
-    opti.subject_to(opti.bounded(0.2 * tf_guess, tf, 5.0 * tf_guess))
-
-    opti.minimize(Z[0, N] + settings.rate_penalty * ca.sumsqr(W) / N)
+    # bounds: initial state fixed, v >= v_stop (v = v_stop at the end), 0 <= T_b <= T_b,max
+    inf = np.inf
+    x0 = np.array([0.0, v0, v0 / R, brake_torque_initial]
+                  + ([T_ambient] if thermal else [])) / sx
+    lb_pt = np.array([-inf, v_stop / v0, -inf, 0.0] + ([-inf] if thermal else []))
+    ub_pt = np.array([inf, inf, inf, 1.0] + ([inf] if thermal else []))
+    lbZ, ubZ = np.repeat(lb_pt[:, None], N + 1, 1), np.repeat(ub_pt[:, None], N + 1, 1)
+    lbZ[:, 0] = ubZ[:, 0] = x0
+    lbZ[1, N] = ubZ[1, N] = v_stop / v0
+    lbZc, ubZc = np.repeat(lb_pt[:, None], N * d, 1), np.repeat(ub_pt[:, None], N * d, 1)
+    lbx = tr.pack(lbZ, lbZc, -np.ones(N), 0.2 * tf_guess)
+    ubx = tr.pack(ubZ, ubZc, np.ones(N), 5.0 * tf_guess)
 
     # initial guess
     tg = np.linspace(0.0, tf_guess, N + 1)
@@ -340,12 +504,9 @@ def solve_braking_ocp(
         return np.vstack(rows) / sx[:, None]
 
     if initial_guess is None:
-        opti.set_initial(Z, guess(tg))
-        opti.set_initial(Zc, guess(tcg))
         ramp = np.clip((Tb_ss - brake_torque_initial) / u_max - tg[:-1], 0,
                        tf_guess / N) * N / tf_guess
-        opti.set_initial(W, ramp[None, :])
-        opti.set_initial(tf, tf_guess)
+        start = tr.pack(guess(tg), guess(tcg), ramp, tf_guess)
     else:
         g = initial_guess
         tf_sim = float(getattr(g, "stop_time", None) or g.final_time)
@@ -380,45 +541,56 @@ def solve_braking_ocp(
         tg = np.linspace(0.0, tf_sim, N + 1)
         tcg = (np.arange(N)[:, None] + np.polynomial.legendre.leggauss(d)[0][None, :] * 0.5
                + 0.5).ravel() * tf_sim / N
-        opti.set_initial(Z, sampled(tg))
-        opti.set_initial(Zc, sampled(tcg))
         Tb = np.interp(tg, g.t, g.brake_torque)
-        opti.set_initial(W, np.clip(np.diff(Tb) / (tf_sim / N) / u_max, -1, 1)[None, :])
-        opti.set_initial(tf, tf_sim)
-
-    opts = {"ipopt.print_level": 5 if verbose else 0, "print_time": False,
-            "ipopt.sb": "yes", "ipopt.tol": settings.tol, "ipopt.max_iter": settings.max_iter,
-            "ipopt.max_wall_time": settings.max_wall_time,
-            **(ipopt_options or {})}
-    opti.solver("ipopt", opts)
+        start = tr.pack(sampled(tg), sampled(tcg),
+                        np.clip(np.diff(Tb) / (tf_sim / N) / u_max, -1, 1), tf_sim)
+    nlp_guess = getattr(initial_guess, "extra", {}).get("nlp") if initial_guess is not None \
+        else None
+    if (nlp_guess is not None and nlp_guess["d"] == d and nlp_guess["nx"] == tr.nx
+            and np.allclose(nlp_guess["sx"], sx)):
+        # a solution of the same problem on another mesh (the coarse solve): its collocation
+        # polynomials at this mesh's points
+        start = _refined_start(tr, nlp_guess)
+    # the guess inside the variable bounds (IPOPT would push it in by its own rule)
+    start = np.clip(start, lbx, ubx)
+    p = np.concatenate([sx, [T_ambient, kappa_lo]])
     setup = time.perf_counter() - t_setup
     t0 = time.perf_counter()
     try:
-        sol = opti.solve()
+        sol = tr.solver(x0=start, p=p, lbx=lbx, ubx=ubx, lbg=tr.lbg, ubg=tr.ubg)
+        stats = tr.solver.stats()
     except RuntimeError as exc:
         try:                                     # the stats can be missing after a failure
-            stats = opti.stats()
+            stats = tr.solver.stats()
         except Exception:  # never hide the solver's own error behind this one
             stats = {}
         raise ConvergenceError(f"braking OCP did not converge: "
                                f"{stats.get('return_status', 'no status')} after "
                                f"{stats.get('iter_count', '?')} iterations ({exc})") from exc
     solve_time = time.perf_counter() - t0
-    stats = sol.stats()
-    Xv = np.asarray(sol.value(X)).reshape(nx, N + 1)
-    tf_v = float(sol.value(tf))
+    if not stats.get("success", False):
+        raise ConvergenceError(f"braking OCP did not converge: "
+                               f"{stats.get('return_status', 'no status')} after "
+                               f"{stats.get('iter_count', '?')} iterations")
+    Zs, Zcs, Ws, tf_v = tr.unpack(sol["x"])
+    Xv = Zs * sx[:, None]
     t = np.linspace(0.0, tf_v, N + 1)
     kappa = slip(Xv[1], Xv[2], R)
     T_tread = Xv[4] if thermal else np.full(N + 1, T_ambient)
     mu = force_map(kappa, Xv[1], Fz, T_tread)
     return OCPResult(
         t=t, x=Xv[0], v=Xv[1], omega=Xv[2], brake_torque=Xv[3], kappa=kappa, mu=mu,
-        T_tread=T_tread, torque_rate=np.asarray(sol.value(W)).ravel() * u_max,
+        T_tread=T_tread, torque_rate=Ws * u_max,
         stopping_distance=float(Xv[0, -1]), final_time=tf_v, solve_time_s=solve_time,
         setup_time_s=setup, iterations=int(stats.get("iter_count", -1)),
         status=str(stats.get("return_status", "")),
         kappa_bound=kappa_lo, kappa_bound_active=bool(kappa.min() < kappa_lo + 1e-4),
-        extra={"kappa_guess": k_star, "mu_guess": mu_star,
+        extra={"kappa_guess": k_star, "mu_guess": mu_star, "solver_reused": reused,
+               "solver_build_s": 0.0 if reused else tr.build_time_s,
+               "compiled": tr.compiled,
+               "nlp": {"N": N, "d": d, "nx": tr.nx, "sx": sx, "kappa_lo": kappa_lo,
+                       "Z": Zs, "Zc": Zcs, "W": Ws, "tf": tf_v,
+},
                "t_wall": {k[7:]: float(v) for k, v in stats.items()
                           if k.startswith("t_wall_") and isinstance(v, float)}},
     )
@@ -428,7 +600,8 @@ def _solve_coarse_to_fine(car, force_map, v0, v_stop, T_ambient, settings,
                           brake_torque_initial, verbose, ipopt_options, initial_guess
                           ) -> OCPResult:
     """``settings.coarse_intervals`` first, its solution as the fine solve's guess
-    (:class:`OCPSettings`); times and iterations of both are summed in the result."""
+    (:class:`OCPSettings`); times (set-up and solve apart) and iterations of both are summed
+    in the result."""
     from dataclasses import replace
 
     nc = settings.coarse_intervals
@@ -449,6 +622,47 @@ def _solve_coarse_to_fine(car, force_map, v0, v_stop, T_ambient, settings,
         car, force_map, v0, v_stop, T_ambient, settings=replace(settings, coarse_intervals=0),
         brake_torque_initial=brake_torque_initial, verbose=verbose,
         ipopt_options=ipopt_options, initial_guess=initial_guess if coarse is None else coarse)
-    return replace(fine, solve_time_s=fine.solve_time_s + info["time_s"],
+    # the coarse set-up (building, on first use compiling, its transcription) counts as
+    # set-up, the rest of its wall time (a failed one's all of it) as solve time
+    coarse_setup = 0.0 if coarse is None else coarse.setup_time_s
+    return replace(fine, solve_time_s=fine.solve_time_s + info["time_s"] - coarse_setup,
+                   setup_time_s=fine.setup_time_s + coarse_setup,
                    iterations=fine.iterations + (0 if coarse is None else coarse.iterations),
                    extra=dict(fine.extra, coarse=info))
+
+
+def _legendre_tau(d: int) -> np.ndarray:
+    """Collocation points of one interval on [0, 1] (Legendre)."""
+    return np.polynomial.legendre.leggauss(d)[0] * 0.5 + 0.5
+
+
+def _on_mesh(Xb: np.ndarray, Xc: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """A collocation solution (rows: quantities; ``Xb`` at the N + 1 interval boundaries,
+    ``Xc`` at the N d collocation points) at normalised times ``t`` in [0, 1]: its Lagrange
+    polynomial on each interval (the solution the transcription represents, Biegler 2010,
+    sec. 10.2), not a linear interpolation of its nodes."""
+    N = Xb.shape[1] - 1
+    d = Xc.shape[1] // N
+    tau = np.append(0.0, _legendre_tau(d))
+    k = np.clip(np.floor(t * N).astype(int), 0, N - 1)
+    s = t * N - k
+    basis = np.ones((t.size, d + 1))
+    for r in range(d + 1):
+        for q in range(d + 1):
+            if q != r:
+                basis[:, r] *= (s - tau[q]) / (tau[r] - tau[q])
+    pts = np.stack([Xb[:, :-1]] + [Xc[:, j::d] for j in range(d)], axis=-1)   # rows, N, d+1
+    return np.einsum("ikr,kr->ik", pts[:, k, :], basis)
+
+
+def _refined_start(tr: _Transcription, coarse: dict) -> np.ndarray:
+    """Starting point on ``tr``'s mesh from a solution of the same problem on another mesh:
+    the states are its collocation polynomials at this mesh's points (:func:`_on_mesh`), the
+    torque rate that of the interval containing each new one, the final time its own."""
+    N, d, Nc = tr.N, tr.d, coarse["N"]
+    tau = _legendre_tau(d)
+    tb = np.arange(N + 1) / N
+    tcol = ((np.arange(N)[:, None] + tau[None, :]) / N).ravel()
+    Zb, Zc = coarse["Z"], coarse["Zc"]
+    W = coarse["W"][np.minimum((np.arange(N) + 0.5) / N * Nc, Nc - 1).astype(int)]
+    return tr.pack(_on_mesh(Zb, Zc, tb), _on_mesh(Zb, Zc, tcol), W, coarse["tf"])
