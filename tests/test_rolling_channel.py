@@ -182,3 +182,28 @@ def test_coast_down_through_the_fmu_decelerates_by_rolling_resistance(tmp_path):
     model = float(rolling_resistance(passenger(), load_compound("summer"), 20.0, car.Fz,
                                      T20).f_r)
     assert f_r == pytest.approx(model, rel=0.03)
+
+
+def test_quarter_car_wheel_carries_the_rolling_resistance_moment():
+    """Map-based studies: J omega' gains -f_r Fz R (the tire's My against the spin), the car's
+    m v' does not change (only Fx brakes the car, as in MF-Tyre's convention), and the brush
+    study takes f_r from the tire's model on its grid's compound."""
+    import dataclasses
+
+    from lookup.paths import models_dir
+    from tire_brush.braking.friction import brush_rolling_resistance
+    from tire_brush.braking.quarter_car import load_quarter_car, rhs
+
+    car = load_quarter_car(models_dir() / "studies" / "vehicles" / "passenger.toml")
+    rolling = dataclasses.replace(car, rolling_resistance=0.02)
+    a = rhs(car, -0.8, 20.0, 60.0, 900.0, 0.0, T20, T20)
+    b = rhs(rolling, -0.8, 20.0, 60.0, 900.0, 0.0, T20, T20)
+    assert b[1] == a[1]
+    assert b[2] - a[2] == pytest.approx(-0.02 * car.Fz * car.radius / car.wheel_inertia,
+                                        rel=1e-12)
+    prov = {"model": "brush", "tire": "passenger", "grid": "default"}
+    f_r, why = brush_rolling_resistance(prov, 10.0, car.Fz, T20)
+    want = float(rolling_resistance(passenger(), load_compound("summer"), 10.0, car.Fz,
+                                    T20).f_r)
+    assert why == "" and f_r == want
+    assert brush_rolling_resistance({"model": "analytic"}, 10.0, car.Fz, T20)[0] == 0.0

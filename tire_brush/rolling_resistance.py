@@ -636,15 +636,10 @@ def _same_compound(a: dict, b: dict) -> bool:
     return True
 
 
-def rolling_table(params: TireParams, grid) -> tuple[RollingTable | None, str]:
-    """The rolling-resistance table of a tire on a friction grid (for an FMU), or ``None``
-    and the reason.
-
-    The tread term needs the compound the grid was built from: it is loaded by the name in the
-    grid's provenance and must agree with the parameters recorded there (a grid of another
-    compound of the same name is refused). The tire needs its file's ``[rolling_resistance]``
-    table.
-    """
+def grid_compound(grid) -> tuple[Compound | None, str]:
+    """The compound a friction grid was built from, loaded by the name in its provenance
+    and checked against the parameters recorded there (:func:`rolling_table`), or ``None``
+    and the reason."""
     from lookup.compound import load_compound
 
     meta = getattr(grid, "meta", {}) or {}
@@ -658,6 +653,22 @@ def rolling_table(params: TireParams, grid) -> tuple[RollingTable | None, str]:
     if not _same_compound(compound.describe(), meta["compound"]):
         return None, (f"the shipped compound {name!r} differs from the one the grid was built "
                       f"with")
+    return compound, ""
+
+
+def rolling_table(params: TireParams, grid) -> tuple[RollingTable | None, str]:
+    """The rolling-resistance table of a tire on a friction grid (for an FMU), or ``None``
+    and the reason.
+
+    The tread term needs the compound the grid was built from: it is loaded by the name in the
+    grid's provenance and must agree with the parameters recorded there (a grid of another
+    compound of the same name is refused). The tire needs its file's ``[rolling_resistance]``
+    table.
+    """
+    compound, why = grid_compound(grid)
+    if compound is None:
+        return None, why
+    name = grid.meta["compound_name"]
     try:
         load_rolling_params(params)
     except InputError as exc:

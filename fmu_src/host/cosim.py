@@ -56,7 +56,7 @@ import json
 import math
 import shutil
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Literal
 
@@ -331,6 +331,8 @@ def simulate_braking_fmu(
     vout = [md_vars[n].valueReference for n in OUTPUT_NAMES]
     status_vr = md_vars["input_status"].valueReference if "input_status" in md_vars else None
     my_vr, my_sign = _my_reader(md_vars, start)
+    # the FMU gives the rolling resistance moment: the car's own coefficient is not added
+    rhs_car = replace(car, rolling_resistance=0.0)
     R, Fz = car.radius, car.Fz
     Tmax = car.brake_torque_max
     try:
@@ -369,8 +371,9 @@ def simulate_braking_fmu(
             y = dict(zip(OUTPUT_NAMES, slave.getReal(vout), strict=True))
             Fx = y["Fx"]
             Tb_new = min(max(Tb + h * u, 0.0), Tmax)
-            _, dv, domega, _, _ = quarter_car_rhs(car, Fx / Fz, v, omega, 0.5 * (Tb + Tb_new),
-                                                  u, y["T_tread"], T_ambient)
+            _, dv, domega, _, _ = quarter_car_rhs(rhs_car, Fx / Fz, v, omega,
+                                                  0.5 * (Tb + Tb_new), u, y["T_tread"],
+                                                  T_ambient)
             if my_vr is not None:     # rolling resistance on the wheel
                 domega -= my_sign * slave.getReal([my_vr])[0] / car.wheel_inertia
             v_new = v + h * dv

@@ -282,3 +282,31 @@ def brush_source(settings: Mapping[str, Any], case: Case, base_dir: Path) -> Fri
 
 
 register_friction_source("brush", brush_source, ("tire", "grid", "n_elements"))
+
+
+def brush_rolling_resistance(provenance: Mapping[str, Any], V: float, Fz: float,
+                             T_K: float) -> tuple[float, str]:
+    """Rolling resistance coefficient f_r [1] of a brush friction source's tire (its
+    ``provenance``: tire and grid) at speed ``V`` [m/s], load ``Fz`` [N] and tread temperature
+    ``T_K`` (:mod:`tire_brush.rolling_resistance`, on the grid's own compound), or 0 and why
+    (another source, a tire file without a ``[rolling_resistance]`` table, a grid without a
+    compound)."""
+    if provenance.get("model") != "brush":
+        return 0.0, "the friction source is not the brush tire"
+    from lookup.grid import load_grid
+    from tire_brush.params import load_tire
+    from tire_brush.rolling_resistance import (
+        grid_compound,
+        load_rolling_params,
+        rolling_resistance,
+    )
+
+    params = load_tire(provenance["tire"])
+    compound, why = grid_compound(load_grid(provenance["grid"]))
+    if compound is None:
+        return 0.0, why
+    try:
+        load_rolling_params(params)
+    except InputError as exc:
+        return 0.0, exc.message
+    return float(rolling_resistance(params, compound, V, Fz, T_K).f_r), ""

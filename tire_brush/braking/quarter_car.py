@@ -9,7 +9,8 @@ Springer 2010, eq. (2.1)-(2.3); Kiencke & Nielsen 2005, wheel dynamics)::
 
     x'     = v
     m v'   = Fx,                      Fx = Fz mu(kappa, v, Fz, T)
-    J w'   = -R Fx - T_b              (omega >= 0: the brake opposes the spin)
+    J w'   = -R Fx - T_b - f_r Fz R   (omega >= 0: the brake opposes the spin; f_r Fz R the
+                                       rolling resistance moment My of the tire)
     T_b'   = u                        (|u| <= brake_torque_rate_max, 0 <= T_b <= T_b,max)
     C T'   = eta Fx (omega R - v) - h (T - T_amb)     (thermal state, optional)
 
@@ -92,6 +93,12 @@ class QuarterCar:
         Tread-temperature state; None leaves the tread at the ambient temperature.
     name : str
         Label.
+    rolling_resistance : float
+        Rolling resistance coefficient f_r [1] of the tire: the moment ``f_r Fz R`` (the
+        tire's ``My``) acts on the wheel against the spin. It brakes the wheel, not the car
+        (only the tire force ``Fx`` does, as in MF-Tyre's convention), so the point-mass
+        bound is unchanged. 0: none. A study sets it from the brush tire's rolling-resistance
+        model (:func:`tire_brush.braking.friction.brush_rolling_resistance`).
     """
 
     mass: float
@@ -102,8 +109,12 @@ class QuarterCar:
     g: float = G_STANDARD
     thermal: ThermalParams | None = None
     name: str = "quarter_car"
+    rolling_resistance: float = 0.0
 
     def __post_init__(self) -> None:
+        if not (math.isfinite(self.rolling_resistance) and 0 <= self.rolling_resistance < 1):
+            raise InputError("must be a finite number in [0, 1)", field="rolling_resistance",
+                             value=self.rolling_resistance)
         for name in ("mass", "wheel_inertia", "radius", "brake_torque_max",
                      "brake_torque_rate_max", "g"):
             val = getattr(self, name)
@@ -178,7 +189,8 @@ def rhs(car: QuarterCar, mu, v, omega, T_b, u, T_tread, T_ambient: float):
     Fx = car.Fz * mu
     dx = v
     dv = Fx / car.mass
-    domega = (-car.radius * Fx - T_b) / car.wheel_inertia
+    domega = (-car.radius * Fx - T_b - car.rolling_resistance * car.Fz * car.radius) / \
+        car.wheel_inertia
     if car.thermal is None:
         dT = 0.0 * T_tread
     else:

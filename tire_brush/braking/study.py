@@ -38,7 +38,7 @@ import itertools
 import json
 import math
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -58,7 +58,13 @@ from .abs_control import (
     RuleBasedABS,
 )
 from .force_map import ForceMap, default_axes
-from .friction import FRICTION_KEYS, FRICTION_SOURCES, Case, make_friction_source
+from .friction import (
+    FRICTION_KEYS,
+    FRICTION_SOURCES,
+    Case,
+    brush_rolling_resistance,
+    make_friction_source,
+)
 from .ocp import OCPResult, OCPSettings, solve_braking_ocp
 from .quarter_car import (
     QuarterCar,
@@ -536,7 +542,6 @@ def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: S
 
     Returns the best result, its start and per start the distance or the failure.
     """
-    from dataclasses import replace
 
     from lookup.errors import ConvergenceError
 
@@ -595,7 +600,6 @@ def with_tread_heating(car: QuarterCar, stop: OCPResult, T_ambient: float) -> OC
     v) - G (T - T_ambient)`` (:mod:`.quarter_car`) by the trapezoidal rule on its time grid,
     from ``T_ambient`` (the friction of the stop as it was, the temperature's effect on it
     left out: a start for the thermal OCP, not a solution of it)."""
-    from dataclasses import replace
 
     th = car.thermal
     if th is None:
@@ -614,8 +618,13 @@ def with_tread_heating(car: QuarterCar, stop: OCPResult, T_ambient: float) -> OC
 def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResult:
     """Run one case: force map, slip maps, OCP, ABS and locked-wheel simulations, and with
     ``fmu_simulator`` (from :func:`fmu_simulators`) the ABS through the FMU."""
-    car = spec.car
     fmap, prov, label = case_force_map(spec, case)
+    # the tire's rolling resistance moment on the wheel (brush source): f_r at half the
+    # initial speed (the time mean of a uniform stop) and the case temperature; over a stop
+    # it changes by some 15 % (docs/rolling.md), on a moment of ~2 % of the brake torque
+    f_r, f_r_why = brush_rolling_resistance(prov, 0.5 * spec.v0, spec.car.Fz, case.T_K)
+    spec = replace(spec, car=replace(spec.car, rolling_resistance=f_r))
+    car = spec.car
     v_bound = np.geomspace(spec.v_stop, spec.v0, 25)
     sm_line = optimal_slip(fmap, v_bound, [car.Fz], [case.T_K], label=label)
     bound_T0 = point_mass_bound(sm_line, spec.v0, spec.v_stop, car.g)
@@ -694,6 +703,8 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
         "stop_time_locked": locked.stop_time,
         "ocp_solve_time_s": ocp.solve_time_s, "ocp_iterations": ocp.iterations,
         "map_build_time_s": fmap.build_time_s,
+        "rolling_resistance": f_r,
+        **({"rolling_resistance_why": f_r_why} if f_r_why else {}),
         "T_tread_max_ocp_K": float(np.max(ocp.T_tread)),
         "stopping_distance_abs_fmu": nan if abs_fmu is None else abs_fmu.stopping_distance,
         "stop_time_abs_fmu": nan if abs_fmu is None else abs_fmu.stop_time,
