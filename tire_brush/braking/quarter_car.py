@@ -38,6 +38,10 @@ from lookup.errors import InputError
 
 from .reference import G_STANDARD
 
+#: Rolling speed [m/s] below which the rolling resistance moment vanishes (the creep limit
+#: of :data:`tire_brush.rolling_resistance.V_CREEP`, the first speed node of the core's table).
+V_CREEP = 0.1
+
 
 @dataclass(frozen=True)
 class ThermalParams:
@@ -98,7 +102,12 @@ class QuarterCar:
         tire's ``My``) acts on the wheel against the spin. It brakes the wheel, not the car
         (only the tire force ``Fx`` does, as in MF-Tyre's convention), so the point-mass
         bound is unchanged. 0: none. A study sets it from the brush tire's rolling-resistance
-        model (:func:`tire_brush.braking.friction.brush_rolling_resistance`).
+        model (:func:`tire_brush.braking.friction.brush_rolling_resistance`). The moment
+        vanishes with the rolling speed ``V_r = omega R`` as
+        ``V_r / sqrt(V_r^2 + V_CREEP^2)``: a smooth form (the OCP needs one) of the tire
+        core's creep limit, ``My`` proportional to ``V_r`` below ``V_CREEP`` (a viscoelastic
+        solid's loss modulus is linear in frequency at low frequency); 0.5 % below the full
+        value at 1 m/s. A locked wheel has none.
     """
 
     mass: float
@@ -189,8 +198,10 @@ def rhs(car: QuarterCar, mu, v, omega, T_b, u, T_tread, T_ambient: float):
     Fx = car.Fz * mu
     dx = v
     dv = Fx / car.mass
-    domega = (-car.radius * Fx - T_b - car.rolling_resistance * car.Fz * car.radius) / \
-        car.wheel_inertia
+    # rolling resistance moment, vanishing with the rolling speed (creep limit below)
+    Vr = omega * car.radius
+    My = car.rolling_resistance * car.Fz * car.radius * Vr / (Vr * Vr + V_CREEP**2) ** 0.5
+    domega = (-car.radius * Fx - T_b - My) / car.wheel_inertia
     if car.thermal is None:
         dT = 0.0 * T_tread
     else:
