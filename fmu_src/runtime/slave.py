@@ -111,9 +111,9 @@ _CAUSALITY = {"input": Fmi2Causality.input, "output": Fmi2Causality.output,
 _OUTPUT_NAMES = tuple(n for n, _, _ in OUTPUTS)
 
 
-def _read_rolling(data_dir: Path, spec: dict[str, Any]) -> Any:
-    """The build's rolling-resistance table (``spec`` from build.json) as the object
-    :meth:`tire_brush.transient.TransientBrushTire.set_rolling` takes, or None.
+def _resource(data_dir: Path, spec: dict[str, Any], what: str) -> bytes | None:
+    """The bytes of an optional resource the build recorded in build.json (``spec``: its
+    ``file`` and ``sha256``), or None when the build has none.
 
     Raises
     ------
@@ -121,37 +121,34 @@ def _read_rolling(data_dir: Path, spec: dict[str, Any]) -> Any:
         The file is missing, corrupt or not the one the build recorded.
     """
     import hashlib
-    from types import SimpleNamespace
 
     if not spec.get("file"):
         return None
     path = data_dir / spec["file"]
     data = path.read_bytes()
     if "sha256:" + hashlib.sha256(data).hexdigest() != spec.get("sha256"):
-        raise ValueError(f"{path}: not the rolling-resistance table of this build")
+        raise ValueError(f"{path}: not the {what} of this build")
+    return data
+
+
+def _read_rolling(data_dir: Path, spec: dict[str, Any]) -> Any:
+    """The build's rolling-resistance table as the object
+    :meth:`tire_brush.transient.TransientBrushTire.set_rolling` takes, or None."""
+    from types import SimpleNamespace
+
+    data = _resource(data_dir, spec, "rolling-resistance table")
+    if data is None:
+        return None
     t = read_table_bytes(data)
     return SimpleNamespace(log10_v=t["log10_v"], T=t["T"], log10_Fz=t["log10_p"],
                            f_r=t["values"][..., 0], tread_share=t["values"][..., 1])
 
 
 def _read_wet(data_dir: Path, spec: dict[str, Any]) -> dict[str, Any] | None:
-    """The build's wet branch (``spec`` from build.json) as the arrays of
-    :func:`fmu_src.runtime.table_file.read_wet_bytes`, or None.
-
-    Raises
-    ------
-    ValueError
-        The file is missing, corrupt or not the one the build recorded.
-    """
-    import hashlib
-
-    if not spec.get("file"):
-        return None
-    path = data_dir / spec["file"]
-    data = path.read_bytes()
-    if "sha256:" + hashlib.sha256(data).hexdigest() != spec.get("sha256"):
-        raise ValueError(f"{path}: not the wet branch of this build")
-    return read_wet_bytes(data)
+    """The build's wet branch as the arrays of
+    :func:`fmu_src.runtime.table_file.read_wet_bytes`, or None."""
+    data = _resource(data_dir, spec, "wet branch")
+    return None if data is None else read_wet_bytes(data)
 
 
 def read_build(resources: str | Path) -> dict[str, Any]:

@@ -174,24 +174,32 @@ static int resource_path(const char *loc, const char *file, char *out, size_t n)
     return 0;
 }
 
-/* Read a table file (format above; the rolling-resistance table uses it too, with the axes
- * log10 |V_r|, T_tread, log10 Fz and the values f_r, tread share, 0) into new arrays. */
-static int read_table(comp *c, const char *path, const char *what, int *n3, double **axes_out,
-                      double **values_out) {
+/* The whole file at path in a new buffer (its size in *n), or NULL (logged). */
+static unsigned char *read_file(comp *c, const char *path, const char *what, size_t *n) {
     FILE *f = fopen(path, "rb");
     unsigned char *b = NULL;
     long size;
-    *axes_out = *values_out = NULL;
-    if (!f) { logf_(c, fmi2Error, "cannot open the %s %s", what, path); return -1; }
+    if (!f) { logf_(c, fmi2Error, "cannot open the %s %s", what, path); return NULL; }
     if (fseek(f, 0, SEEK_END) != 0 || (size = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0 ||
         !(b = malloc((size_t)size + 1)) || fread(b, 1, (size_t)size, f) != (size_t)size) {
         fclose(f);
         free(b);
         logf_(c, fmi2Error, "cannot read the %s %s", what, path);
-        return -1;
+        return NULL;
     }
     fclose(f);
-    size_t n = (size_t)size;
+    *n = (size_t)size;
+    return b;
+}
+
+/* Read a table file (format above; the rolling-resistance table uses it too, with the axes
+ * log10 |V_r|, T_tread, log10 Fz and the values f_r, tread share, 0) into new arrays. */
+static int read_table(comp *c, const char *path, const char *what, int *n3, double **axes_out,
+                      double **values_out) {
+    size_t n;
+    *axes_out = *values_out = NULL;
+    unsigned char *b = read_file(c, path, what, &n);
+    if (!b) return -1;
     if (n < 40 || memcmp(b, TFN_TABLE_MAGIC, 16) != 0 || rd_u32(b + 16) != 1u) {
         free(b);
         logf_(c, fmi2Error, "%s is not a tirefric table file (version 1)", path);
@@ -237,20 +245,10 @@ static int load_table(comp *c, const char *path) {
 static int load_wet(comp *c, const char *loc) {
     char path[4200];
     if (!TFN_HAS_WET) return 0;
+    size_t n;
     if (resource_path(loc, TFN_WET_FILE, path, sizeof path) != 0) return -1;
-    FILE *f = fopen(path, "rb");
-    unsigned char *b = NULL;
-    long size;
-    if (!f) { logf_(c, fmi2Error, "cannot open the wet branch %s", path); return -1; }
-    if (fseek(f, 0, SEEK_END) != 0 || (size = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0 ||
-        !(b = malloc((size_t)size + 1)) || fread(b, 1, (size_t)size, f) != (size_t)size) {
-        fclose(f);
-        free(b);
-        logf_(c, fmi2Error, "cannot read the wet branch %s", path);
-        return -1;
-    }
-    fclose(f);
-    size_t n = (size_t)size;
+    unsigned char *b = read_file(c, path, "wet branch", &n);
+    if (!b) return -1;
     if (n < 64 || memcmp(b, "TIREFRIC-WET\0\0\0\0", 16) != 0 || rd_u32(b + 16) != 1u) {
         free(b);
         logf_(c, fmi2Error, "%s is not a tirefric wet-branch file (version 1)", path);
