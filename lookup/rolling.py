@@ -573,6 +573,21 @@ def bonded_layer_factor(qh: np.ndarray, nu: float) -> np.ndarray:
 TreadSupport = Literal["bonded", "winkler"]
 
 
+def layer_weight(mod: EffectiveModulus, h: float, nu: float, support: str):
+    """The weight ``w(q, omega)`` of eq. (29)'s integrand for a tread layer of thickness
+    ``h`` (:func:`tread_rolling_resistance`): ``2 K(qh) Im(1/E_eff)`` on a rigid base
+    (``"bonded"``), ``q h Im(1/E) / (1 - nu^2)`` for free columns (``"winkler"``)."""
+    if support == "bonded":
+        def weight(q, w):
+            return 2.0 * bonded_layer_factor(q * h, nu) * mod.im_compliance(w)
+    else:
+        c = 1.0 - nu**2
+
+        def weight(q, w):
+            return q * h * mod.im_compliance(w) / c
+    return weight
+
+
 def tread_rolling_resistance(x: np.ndarray, p: np.ndarray, h: float, V: float,
                              compound: Compound, T: float, strain: float | None = None,
                              support: TreadSupport = "bonded") -> float:
@@ -629,15 +644,5 @@ def tread_rolling_resistance(x: np.ndarray, p: np.ndarray, h: float, V: float,
     if support not in ("bonded", "winkler"):
         raise InputError("support must be 'bonded' or 'winkler'", field="support",
                          value=support)
-    mod = EffectiveModulus(compound, T, strain)
-    if support == "bonded":
-        nu = compound.nu
-
-        def weight(q, w):
-            return 2.0 * bonded_layer_factor(q * h, nu) * mod.im_compliance(w)
-    else:
-        c = 1.0 - compound.nu**2
-
-        def weight(q, w):
-            return q * h * mod.im_compliance(w) / c
+    weight = layer_weight(EffectiveModulus(compound, T, strain), h, compound.nu, support)
     return float(_profile_integral(x, p, f_N, va, weight)[0])

@@ -134,6 +134,23 @@ class FmuDriver:
         self.fmu.freeInstance()
 
 
+def slave_outputs(resources: Path, u: list[float], n: int, dt: float = 1e-3) -> np.ndarray:
+    """The pythonfmu slave on a staged resources folder, in process: ``n`` steps of ``dt``
+    with the inputs ``u`` held (:data:`INPUTS` order); the Real outputs of each step."""
+    from fmu_src.runtime.slave import BrushTireSlave
+
+    s = BrushTireSlave(instance_name="s", resources=str(resources))
+    vr = {v.name: v.value_reference for v in s.vars.values()}
+    s.enter_initialization_mode()
+    s.exit_initialization_mode()
+    got = []
+    for _ in range(n):
+        s.set_real([vr[k] for k in INPUTS], u)
+        assert s.do_step(0.0, dt), "do_step returned False (fmi2Discard)"
+        got.append(s.get_real([vr[k] for k in OUTPUTS]))
+    return np.array(got)
+
+
 def braking_inputs(n: int, dt: float = 1e-3, seed: int = 5) -> np.ndarray:
     """A manoeuvre of ``n`` steps: rolling at 20 m/s, a braking slip ramp with steer, a load
     change, a temperature change, a low-friction patch and camber; a dry road (rows:

@@ -92,7 +92,7 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
      "kappa = (omega * R_e - vx) / ref",
      "kappa = (omega * R_e - vx) / max(abs(omega * R_e), v_floor)"),
     ("OCP objective: distance maximised", "tire_brush/braking/ocp.py",
-     "opti.minimize(Z[0, N] +", "opti.minimize(-Z[0, N] +"),
+     "f_obj = Z[0, N] + rate_penalty", "f_obj = -Z[0, N] + rate_penalty"),
     # -- tire core (tire_brush/csrc/tirecore.c, what the models and the FMU run) -------------
     ("tire core: eq. (28) with s0 halved", "tire_brush/csrc/tirecore.c",
      "    S.inv_s0 = t->inv_s0;\n", "    S.inv_s0 = 2.0 * t->inv_s0;\n"),

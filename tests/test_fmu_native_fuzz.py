@@ -54,16 +54,22 @@ def test_fuzz_1e5_steps(fmu_dir):
     print(counts)
 
 
+SANITIZERS = ("-fsanitize=address,undefined", "-fno-sanitize-recover=undefined")
+
+
+def _sanitized(unz: Path, lib: Path) -> Path:
+    """The FMU's wrapper and core compiled from its sources/ with ASan and UBSan."""
+    src = unz / "sources"
+    subprocess.run(["cc", "-std=c99", "-O1", "-g", *SANITIZERS, "-fPIC", "-shared", "-I",
+                    str(src), "-o", str(lib), str(src / "fmu_wrapper.c"),
+                    str(src / "tirecore.c"), "-lm"], check=True)
+    return lib
+
+
 @pytest.mark.slow
 def test_fuzz_under_address_and_undefined_sanitizers(fmu_dir, tmp_path):
     unz, guid = fmu_dir
-    flags = ("-fsanitize=address,undefined", "-fno-sanitize-recover=undefined")
-    lib = tmp_path / "asan.so"
-    src = unz / "sources"
-    subprocess.run(["cc", "-std=c99", "-O1", "-g", *flags, "-fPIC", "-shared", "-I", str(src),
-                    "-o", str(lib), str(src / "fmu_wrapper.c"), str(src / "tirecore.c"),
-                    "-lm"], check=True)
-    _run(unz, guid, lib, 10_000, 3, flags)
+    _run(unz, guid, _sanitized(unz, tmp_path / "asan.so"), 10_000, 3, SANITIZERS)
 
 
 @pytest.fixture(scope="module")
@@ -86,10 +92,4 @@ def test_fuzz_wet_build_under_sanitizers(wet_fmu_dir, tmp_path):
     """Water (a third of the steps, -2 ... 10 mm), camber and My with adversarial inputs,
     rollbacks and corrupt blobs, under ASan and UBSan."""
     unz, guid = wet_fmu_dir
-    flags = ("-fsanitize=address,undefined", "-fno-sanitize-recover=undefined")
-    lib = tmp_path / "asan_wet.so"
-    src = unz / "sources"
-    subprocess.run(["cc", "-std=c99", "-O1", "-g", *flags, "-fPIC", "-shared", "-I", str(src),
-                    "-o", str(lib), str(src / "fmu_wrapper.c"), str(src / "tirecore.c"),
-                    "-lm"], check=True)
-    _run(unz, guid, lib, 10_000, 11, flags)
+    _run(unz, guid, _sanitized(unz, tmp_path / "asan_wet.so"), 10_000, 11, SANITIZERS)

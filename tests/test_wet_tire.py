@@ -13,12 +13,11 @@ import math
 import numpy as np
 import pytest
 from brush_cases import T20, passenger
-from fmu_support import INPUTS, OUTPUTS, FmuDriver
+from fmu_support import FmuDriver, slave_outputs
 
 from fmu_src.make.build import BuildOptions, stage_resources
 from fmu_src.make.native_build import WET_TABLE_FILE, build_native_fmu
 from fmu_src.runtime.interface import STATUS_BITS
-from fmu_src.runtime.slave import BrushTireSlave
 from lookup.grid import load_grid
 from lookup.grid.store import resolve_grid_path
 from lookup.grid.wet import load_wet
@@ -140,16 +139,7 @@ def test_both_fmu_flavours_read_water(grid, wet, tmp_path):
     res = tmp_path / "resources"
     build = stage_resources(passenger(), grid, res, opts)
     assert build["wet"]["file"] and build["options"]["texture_depth"] == TEXTURE
-    s = BrushTireSlave(instance_name="s", resources=str(res))
-    vr = {v.name: v.value_reference for v in s.vars.values()}
-    s.enter_initialization_mode()
-    s.exit_initialization_mode()
-    got = []
-    for _ in range(20):
-        s.set_real([vr[n] for n in INPUTS], u)
-        assert s.do_step(0.0, 1e-3)
-        got.append(s.get_real([vr[n] for n in OUTPUTS]))
-    assert np.array_equal(np.array(got), want)
+    assert np.array_equal(slave_outputs(res, u, 20), want)
     fmu = build_native_fmu(passenger(), grid, tmp_path / "n.fmu", opts,
                            platforms=("linux64",)).path
     d = FmuDriver(fmu)

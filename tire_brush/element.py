@@ -182,14 +182,7 @@ class RefTable:
             if j > n - 2:
                 j = n - 2
             return j, tt - j
-        lo, hi = 0, n - 1
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            if a[mid] <= x:
-                lo = mid
-            else:
-                hi = mid
-        return lo, (x - a[lo]) / (a[lo + 1] - a[lo])
+        return _locate_arr(a, x)
 
     def prep(self, iT: int, fT: float, p_rubber: float) -> tuple:
         """Offset and bilinear weights in (T, p) for pressure ``p_rubber`` [Pa]."""

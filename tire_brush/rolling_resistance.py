@@ -86,7 +86,7 @@ import numpy as np
 
 from lookup.compound import Compound
 from lookup.errors import InputError
-from lookup.rolling import EffectiveModulus, _check_profile, _profile_integral, bonded_layer_factor
+from lookup.rolling import EffectiveModulus, _check_profile, _profile_integral, layer_weight
 
 from .params import TireParams
 
@@ -328,18 +328,8 @@ def tread_coefficient(params: TireParams, compound: Compound, rr: RollingResista
     x, p, _ = footprint_profile(params, Fz)
     land = 1.0 - params.tread.void_ratio if rr.tread_support == "winkler" else 1.0
     x, p_rubber, f_N = _check_profile(x, p / land)
-    mod = EffectiveModulus(compound, compound.T_ref)
-    h = rr.tread_depth
-    if rr.tread_support == "bonded":
-        nu = compound.nu
-
-        def weight(q, w):
-            return 2.0 * bonded_layer_factor(q * h, nu) * mod.im_compliance(w)
-    else:
-        c = 1.0 - compound.nu**2
-
-        def weight(q, w):
-            return q * h * mod.im_compliance(w) / c
+    weight = layer_weight(EffectiveModulus(compound, compound.T_ref), rr.tread_depth,
+                          compound.nu, rr.tread_support)
     V_reduced = np.asarray(V_reduced, float)
     return _profile_integral(x, p_rubber, f_N, V_reduced.ravel(), weight).reshape(
         V_reduced.shape)

@@ -208,6 +208,15 @@ tf_wet *tf_wet_new(int nv, int nT, int np, int nd, int nt, const double *depth,
     return w;
 }
 
+/* |(x, y)| as sqrt(x^2 + y^2): libm's hypot and Python's math.hypot round differently, and
+ * the Python reference must give the same bits. The magnitudes here (speeds, stresses,
+ * forces) are far from overflow. */
+static double norm2(double x, double y) { return sqrt(x * x + y * y); }
+
+/* The cold weight exp(-a) of eq. (28) for a = s / s0 >= 0 (taken as 0 beyond a = 700, where
+ * it is below 1e-304 anyway: fully developed elements skip the exponential). */
+static double cold_weight(double a) { return a > 700.0 ? 0.0 : exp(-a); }
+
 /* Cell index and fraction of x on an ascending axis a[n], clamped (a NaN-free x). */
 static void locate_arr(int n, const double *a, double x, int *i, double *f) {
     if (!(x > a[0])) { *i = 0; *f = 0.0; return; }
@@ -220,15 +229,6 @@ static void locate_arr(int n, const double *a, double x, int *i, double *f) {
     *i = lo;
     *f = (x - a[lo]) / (a[lo + 1] - a[lo]);
 }
-
-/* |(x, y)| as sqrt(x^2 + y^2): libm's hypot and Python's math.hypot round differently, and
- * the Python reference must give the same bits. The magnitudes here (speeds, stresses,
- * forces) are far from overflow. */
-static double norm2(double x, double y) { return sqrt(x * x + y * y); }
-
-/* The cold weight exp(-a) of eq. (28) for a = s / s0 >= 0 (taken as 0 beyond a = 700, where
- * it is below 1e-304 anyway: fully developed elements skip the exponential). */
-static double cold_weight(double a) { return a > 700.0 ? 0.0 : exp(-a); }
 
 /* Cell index i (0..n-2) and fraction f of x on axis k, clamped to the axis. */
 static void locate(const tf_table *t, int k, double x, int *i, double *f) {
@@ -244,13 +244,7 @@ static void locate(const tf_table *t, int k, double x, int *i, double *f) {
         *f = tt - j;
         return;
     }
-    int lo = 0, hi = n - 1;
-    while (hi - lo > 1) {
-        int mid = (lo + hi) / 2;
-        if (a[mid] <= x) lo = mid; else hi = mid;
-    }
-    *i = lo;
-    *f = (x - a[lo]) / (a[lo + 1] - a[lo]);
+    locate_arr(n, a, x, i, f);
 }
 
 /* Bilinear (T, p) weights and offset of one query. */
