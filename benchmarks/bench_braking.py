@@ -9,7 +9,9 @@ Reports medians over the repeats: the B-spline force-map build (tabulation of an
 source + scipy coefficient fit + CasADi function) at three sizes, the OCP (IPOPT wall time and
 NLP set-up) at 200 intervals for two road curves, one rule-based-ABS simulation, and per case
 of a study (``--study``, default the brush-tire study ``abs_default``; ``--study none`` skips
-it) the OCP from each of the study's starts on that case's force map (median solve and
+it) the lower bound that follows the tread's heating (dynamic programming,
+``thermal_dp.thermal_ramp_bound``) and the OCP from each of the study's starts on that
+case's force map (median solve and
 set-up time, iterations, distance; a start that fails is counted and named), with the NLP's
 functions compiled to C and interpreted, and per case the median over the starts with its
 ratio to the 5 s target and of compiled to interpreted.
@@ -126,6 +128,7 @@ def bench_study_ocp(study: str, repeat: int, variants: tuple[str, ...] = ("compi
         load_study,
         solve_ocp_from_starts,
     )
+    from tire_brush.braking.thermal_dp import thermal_ramp_bound
 
     spec0 = load_study(study)
     rows, per_case = [], []
@@ -145,6 +148,11 @@ def bench_study_ocp(study: str, repeat: int, variants: tuple[str, ...] = ("compi
                                                            car.brake_torque_rate_max,
                                                            slip_schedule=sched),
                                    spec0.v0, spec0.v_stop, case.T_K, settings=spec0.simulation)
+        # the lower bound that follows the tread's heating (dynamic programming, two
+        # resolutions), once per case
+        t_bound, bound = median_time(lambda c=car, f=fmap, T=case.T_K: thermal_ramp_bound(
+            c, f, spec0.v0, spec0.v_stop, T, brake_torque_initial=spec0.brake_torque_initial),
+            repeat)
         medians = {}
         for variant in variants:
             spec = replace(spec0, ocp=replace(spec0.ocp, jit=variant == "compiled"))
@@ -178,7 +186,8 @@ def bench_study_ocp(study: str, repeat: int, variants: tuple[str, ...] = ("compi
                              "stopping_distance_m": d["dist"][-1] if ok else None,
                              "failed": d["failed"]})
             medians[variant] = statistics.median(every) if every else None
-        row = {"case": case.label, **{f"solve_s_median_{v}": m for v, m in medians.items()}}
+        row = {"case": case.label, **{f"solve_s_median_{v}": m for v, m in medians.items()},
+               "thermal_bound_s_median": t_bound, "thermal_bound_m": bound.distance}
         for v, m in medians.items():
             row[f"ratio_to_target_{v}"] = None if m is None else m / TARGET_S
         if medians.get("compiled") and medians.get("interpreted"):
@@ -248,6 +257,8 @@ def main(argv=None) -> int:
                       for k, v in r.items() if k.startswith("ratio_to_target_") and v]
             if "ratio_compiled_to_interpreted" in r:
                 parts.append(f"compiled/interpreted {r['ratio_compiled_to_interpreted']:.2f}")
+            parts.append(f"thermal bound {r['thermal_bound_m']:.3f} m in "
+                         f"{r['thermal_bound_s_median']:.2f} s")
             print(f"  {r['case']:20s} " + "  ".join(parts))
     return 0
 

@@ -93,6 +93,13 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
      "kappa = (omega * R_e - vx) / max(abs(omega * R_e), v_floor)"),
     ("OCP objective: distance maximised", "tire_brush/braking/ocp.py",
      "f_obj = Z[0, N] + rate_penalty", "f_obj = -Z[0, N] + rate_penalty"),
+    ("thermal bound: sliding power without the slip (kappa = -1 heat at every slip)",
+     "tire_brush/braking/thermal_dp.py",
+     "heat = th.heat_fraction * mu[i] * car.Fz * (-kappa)[None, :] * vm[i]",
+     "heat = th.heat_fraction * mu[i] * car.Fz * np.ones_like(kappa)[None, :] * vm[i]"),
+    ("thermal bound: ramp phase credits no distance", "tire_brush/braking/thermal_dp.py",
+     "            if x[k] + rest > best:\n                best, t_best = x[k] + rest,",
+     "            if rest > best:\n                best, t_best = rest,"),
     # -- tire core (tire_brush/csrc/tirecore.c, what the models and the FMU run) -------------
     ("tire core: eq. (28) with s0 halved", "tire_brush/csrc/tirecore.c",
      "    S.inv_s0 = t->inv_s0;\n", "    S.inv_s0 = 2.0 * t->inv_s0;\n"),

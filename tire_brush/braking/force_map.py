@@ -251,6 +251,30 @@ class ForceMap:
         xi = np.stack([p.ravel() for p in pts], axis=-1)
         return self._ndbspline()(xi).reshape(shape)
 
+    def on_grid(self, kappa, vx, Fz, T_K) -> np.ndarray:
+        """``Fx/Fz`` [1] on the tensor grid of four 1-D coordinate arrays (inputs clamped to the
+        axes), shape ``(len(kappa), len(vx), len(Fz), len(T_K))``.
+
+        The same spline as :meth:`__call__`, evaluated through one basis (design) matrix per
+        axis: the coefficient array is contracted with each axis' matrix in turn (de Boor
+        2001, ch. XVII), which costs a few matrix products instead of ``4^k`` coefficients per
+        grid point. An input whose axis is a single node (inactive) only sets the length of
+        its dimension.
+        """
+        from scipy.interpolate import BSpline
+
+        pts = {n: np.atleast_1d(np.asarray(a, dtype=float)).ravel()
+               for n, a in zip(INPUTS, (kappa, vx, Fz, T_K), strict=True)}
+        out = self.coefficients
+        for i, name in enumerate(self.active):
+            lo, hi = self.bounds(name)
+            x = self._coord(name, np.clip(pts[name], lo, hi))
+            basis = BSpline.design_matrix(x, self.knots[i], self.degrees[i]).toarray()
+            out = np.moveaxis(np.tensordot(out, basis, axes=([i], [1])), -1, i)
+        shape = tuple(pts[n].size for n in INPUTS)
+        expanded = [slice(None) if n in self.active else np.newaxis for n in INPUTS]
+        return np.broadcast_to(out[tuple(expanded)], shape).copy()
+
     def _ndbspline(self):
         cache = self.__dict__.get("_nd_cache")
         if cache is None:

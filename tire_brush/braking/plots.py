@@ -41,6 +41,12 @@ def plot_time_histories(r: CaseResult, path: str | Path) -> Path:
                    label=lab)
         ax[4].plot(res.t, np.asarray(res.T_tread) - 273.15, color=col,
                    lw=1.0 if name != "ocp" else 1.8, label=lab)
+    dp = getattr(r, "slip_dp", None)
+    if dp is not None:
+        lab = f"global optimum, quasi-steady wheel: {dp['x'][-1]:.2f} m"
+        ax[1].plot(dp["t"], -dp["kappa"], color="k", lw=0.8, ls="-.", label=lab)
+        ax[2].plot(dp["t"], -dp["mu"], color="k", lw=0.8, ls="-.", label=lab)
+        ax[4].plot(dp["t"], dp["T_tread"] - 273.15, color="k", lw=0.8, ls="-.", label=lab)
     ax[1].axhline(-r.summary["optimal_slip"], color="k", ls="--", lw=0.8,
                   label="slip of max force at v0")
     ax[0].set_ylabel("v, omega R (dotted) [m/s]")
@@ -94,7 +100,8 @@ def plot_mu_slip(r: CaseResult, path: str | Path) -> Path:
 
 def plot_distances(results: list[CaseResult], path: str | Path) -> Path:
     """Stopping distances by case: OCP, ABS, locked wheel, the ABS through the FMU (when
-    the study ran it) and the point-mass bound of the OCP's tread temperatures."""
+    the study ran it), the point-mass bound of the OCP's tread temperatures and the bound
+    that follows the tread's heating (:mod:`.thermal_dp`)."""
     labels = [r.case.label for r in results]
     x = np.arange(len(results))
     bars = [("ocp", "stopping_distance_ocp"), ("abs", "stopping_distance_abs"),
@@ -115,6 +122,10 @@ def plot_distances(results: list[CaseResult], path: str | Path) -> Path:
                color="k", zorder=3, label="point-mass bound, OCP's tread temperatures")
     ax.scatter(x_ocp, [r.summary.get("point_mass_bound_T0", np.nan) for r in results],
                marker="_", s=400, color="0.6", zorder=3, label="point-mass bound at T0")
+    if all("thermal_bound" in r.summary for r in results):
+        ax.scatter(x_ocp, [r.summary["thermal_bound"] for r in results], marker="_", s=400,
+                   color="C5", zorder=3,
+                   label="lower bound with tread heating and brake build-up")
     ax.set_xticks(x, labels, rotation=20, ha="right", fontsize=8)
     ax.set_ylabel("stopping distance to v_stop [m]")
     ax.legend(fontsize=8)

@@ -15,8 +15,11 @@ friction source, the cases and the settings. For each case the runner
    ``point_mass_bound_T0`` at the case temperature (the isothermal bound), and
    ``point_mass_bound_reachable`` over every temperature a stop can reach (bounds every
    strategy); and the same with the brake torque's build-up at its rate limit
-   (:func:`ramp_bound`: ``ramp_bound``, ``ramp_bound_reachable``), tighter and as valid,
-   against which the OCP's optimum is checked (``ocp_optimality``, ``ocp_bound_gap``);
+   (:func:`ramp_bound`: ``ramp_bound``, ``ramp_bound_reachable``), tighter and as valid;
+   and the bound that follows the tread's heating (:mod:`.thermal_dp`: the global optimum
+   of the stop with a quasi-steady wheel by dynamic programming over speed and tread
+   temperature, with the brake's build-up: ``thermal_bound``), against the best of which
+   the OCP's optimum is checked (``ocp_optimality``, ``ocp_bound_gap``);
 3. solves the minimum-distance OCP (:mod:`.ocp`) and simulates the rule-based ABS and the
    locked wheel (:mod:`.simulation`) on the same quarter car with the same force map, so the
    three stopping distances compare on identical physics. With ``[abs] slip_threshold =
@@ -74,6 +77,8 @@ from .quarter_car import (
 )
 from .simulation import SimResult, SimSettings, simulate_braking
 from .slip_map import SlipMap, optimal_slip
+from .thermal_dp import describe as describe_thermal_bound
+from .thermal_dp import thermal_ramp_bound
 
 #: Columns of the results table, in order (the product interface first: the three stopping
 #: distances and the optimal slip).
@@ -90,6 +95,8 @@ RESULT_KEYS = (
     "stopping_distance_abs_realistic", "stop_time_abs_realistic", "abs_realistic_cycle_hz",
     "abs_cycle_hz", "T_tread_max_abs_realistic_K", "ocp_optimality",
     "ramp_bound", "ramp_bound_reachable", "ocp_bound_gap",
+    "thermal_bound", "thermal_bound_error", "slip_dp_distance", "thermal_bound_split_s",
+    "slip_dp_coast_ratio",
 )
 
 #: Initial guesses the OCP can start from (``[ocp] starts``, :func:`solve_ocp_from_starts`).
@@ -367,6 +374,9 @@ class CaseResult:
     provenance: dict[str, Any]
     abs_fmu: Any = None
     abs_realistic: Any = None
+    #: the global optimum of the stop with a quasi-steady wheel (:mod:`.thermal_dp`): ``t``,
+    #: ``x``, ``v``, ``T_tread``, ``kappa``, ``mu`` along it
+    slip_dp: dict[str, Any] | None = None
 
 
 @dataclass
@@ -387,8 +397,9 @@ def ocp_optimality(distance: float, bound: float, simulated: dict[str, float]) -
     """Whether the OCP's stop is shown optimal by the checks that are at hand.
 
     "verified" when it is no longer than every simulated strategy and no shorter than the
-    lower ``bound`` (each within :data:`OPTIMALITY_SLACK`; the study hands in
-    :func:`ramp_bound`, the point-mass bound with the brake torque's build-up); otherwise
+    lower ``bound`` (each within :data:`OPTIMALITY_SLACK`; the study hands in the larger of
+    :func:`ramp_bound`, the point-mass bound with the brake torque's build-up, and the
+    bound that follows the tread's heating, :func:`.thermal_dp.thermal_ramp_bound`); otherwise
     the reason, with the numbers: a simulated strategy that stops shorter proves that IPOPT
     found a local optimum only (start it from that strategy: ``[ocp] starts``); a stop below
     the bound cannot be proven against it (an error of the transcription, or a bound that
@@ -403,8 +414,7 @@ def ocp_optimality(distance: float, bound: float, simulated: dict[str, float]) -
             why.append(f"{name} stops in {d:.3f} m, shorter than the OCP's {distance:.3f} m: "
                        "a local optimum")
     if distance < bound * (1.0 - OPTIMALITY_SLACK):
-        why.append(f"the OCP's {distance:.3f} m is below the lower bound {bound:.3f} m "
-                   "(point mass with the brake torque's ramp)")
+        why.append(f"the OCP's {distance:.3f} m is below the lower bound {bound:.3f} m")
     return "verified" if not why else "not proven: " + "; ".join(why)
 
 
@@ -672,9 +682,16 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
                  "abs_realistic": abs_real.stopping_distance,
                  "locked": locked.stopping_distance}
 
+    # the global optimum of the stop with a quasi-steady wheel over speed and tread
+    # temperature, with the brake's build-up: a lower bound that knows how the tread heats
+    # (the full slip range, as the locked and ABS starts have)
+    thermal = thermal_ramp_bound(car, fmap, spec.v0, spec.v_stop, case.T_K,
+                                 brake_torque_initial=spec.brake_torque_initial)
+
     def verified(res: OCPResult) -> bool:
         _, _, b = bound_up_to(float(np.max(res.T_tread)))
-        return ocp_optimality(res.stopping_distance, b, simulated) == "verified"
+        return ocp_optimality(res.stopping_distance, max(b, thermal.distance),
+                              simulated) == "verified"
 
     ocp, ocp_start, ocp_tried = solve_ocp_from_starts(spec, case, fmap, locked, abs_sim,
                                                       verify=verified)
@@ -682,7 +699,7 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
     # OCP cannot beat them (a check of the transcription), whatever heating does; the check
     # uses the tighter one, with the brake torque's ramp
     bound, _, ramp = bound_up_to(float(np.max(ocp.T_tread)))
-    optimality = ocp_optimality(ocp.stopping_distance, ramp, simulated)
+    optimality = ocp_optimality(ocp.stopping_distance, max(ramp, thermal.distance), simulated)
     abs_fmu = None
     if fmu_simulator is not None:
         abs_fmu = fmu_simulator(car, abs_controller(), spec.v0, spec.v_stop, case.T_K,
@@ -724,9 +741,10 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
         "T_tread_max_abs_realistic_K": float(np.max(abs_real.T_tread)),
         "ocp_optimality": optimality,
         "ramp_bound": ramp, "ramp_bound_reachable": ramp_any,
-        # no stop beats ramp_any (its tread may reach any temperature a stop can cause):
-        # the optimum is within this fraction of the best possible stop
-        "ocp_bound_gap": ocp.stopping_distance / ramp_any - 1.0,
+        **describe_thermal_bound(thermal),
+        # no stop beats ramp_any (its tread may reach any temperature a stop can cause) nor
+        # the thermal bound: the optimum is within this fraction of the best possible stop
+        "ocp_bound_gap": ocp.stopping_distance / max(ramp_any, thermal.distance) - 1.0,
         "Fz_N": car.Fz, "radius_m": car.radius,
     }
     provenance = {"friction": prov, "friction_label": label, "ocp_status": ocp.status,
@@ -741,7 +759,7 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
                                  **getattr(abs_fmu, "fmu", {})}
     return CaseResult(case=case, summary=summary, ocp=ocp, abs_sim=abs_sim, locked=locked,
                       slip_map=sm, force_map=fmap, provenance=provenance, abs_fmu=abs_fmu,
-                      abs_realistic=abs_real)
+                      abs_realistic=abs_real, slip_dp=thermal.dp.trajectory(car, fmap))
 
 
 def fmu_simulators(spec: StudySpec, work_dir: str | Path,
@@ -924,6 +942,8 @@ def write_results(spec: StudySpec, results: list[CaseResult | CaseFailure],
         "spec": None if spec_path is None else str(spec_path),
         "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "units": {"stopping_distance_*": "m", "point_mass_bound*": "m", "ramp_bound*": "m",
+                  "thermal_bound": "m", "thermal_bound_error": "m", "slip_dp_distance": "m",
+                  "thermal_bound_split_s": "s", "slip_dp_coast_ratio": "1",
                   "ocp_bound_gap": "1", "optimal_slip": "1",
                   "T_C": "Celsius", "stop_time_*": "s", "mu_*": "1", "T_tread_*": "K",
                   "*_mean_slip": "1"},
