@@ -179,3 +179,26 @@ def test_two_track_on_a_uniform_road_is_the_two_axle_car():
                                           for r in wheel_rates(c)], 6.0, 2.0, T)
     assert four.stopping_distance == pytest.approx(two.stopping_distance, rel=1e-6)
     assert np.max(np.abs(four.yaw_moment)) < 1e-6
+
+
+def test_rolling_resistance_coasts_both_cars_down_at_its_closed_form():
+    """No brake, rolling resistance f_r on every tire: each wheel's moment f_r Fz R reaches
+    the road through its slip, so the car coasts down at a = -f_r m g / (m + 4 J / R^2)
+    (the loads sum to m g whatever the transfer; the wheels' inertia decelerates with the
+    car). 1 %: the ~10 ms in which the wheels settle to their creep slip. Without f_r the
+    car would not slow down at all (the check runs 20 -> 19.5 m/s)."""
+    from tire_brush.braking.two_axle import simulate_two_track
+
+    f_r = 0.015
+    c = TwoAxleCar(mass=1600.0, wheelbase=2.7, cg_to_front=1.2, cg_height=0.55,
+                   wheel_inertia=1.2, radius=0.31, brake_balance=0.6,
+                   brake_torque_max=12000.0, brake_torque_rate_max=4e4, rolling_resistance=f_r)
+    a = f_r * c.mass * c.g / (c.mass + 4 * c.wheel_inertia / c.radius**2)
+    t_exact = 0.5 / a
+    two = simulate_two_axle(c, mu_load_free, (LockedWheel(0.0), LockedWheel(0.0)), 20.0,
+                            19.5, T, dt=2e-3)
+    four = simulate_two_track(c, mu_vec, [LockedWheel(0.0) for _ in range(4)], 20.0, 19.5,
+                              T, dt=2e-3)
+    assert two.stop_time == pytest.approx(t_exact, rel=1e-2)
+    assert four.stop_time == pytest.approx(t_exact, rel=1e-2)
+    assert np.all(two.brake_torque == 0.0)

@@ -177,6 +177,15 @@ def slip(v, omega, radius: float):
     return (omega * radius - v) / v
 
 
+def rolling_resistance_moment(f_r, Fz, radius, omega):
+    """Rolling resistance moment on the wheel [N m], against its spin: ``f_r Fz R`` times
+    ``V_r / sqrt(V_r^2 + V_CREEP^2)`` with ``V_r = omega R`` (the smooth creep limit of
+    :attr:`QuarterCar.rolling_resistance`; a locked wheel has none). Floats, numpy arrays
+    and CasADi expressions alike."""
+    Vr = omega * radius
+    return f_r * Fz * radius * Vr / (Vr * Vr + V_CREEP**2) ** 0.5
+
+
 def rhs(car: QuarterCar, mu, v, omega, T_b, u, T_tread, T_ambient: float):
     """Time derivatives ``(x', v', omega', T_b', T_tread')`` of the quarter car.
 
@@ -199,8 +208,7 @@ def rhs(car: QuarterCar, mu, v, omega, T_b, u, T_tread, T_ambient: float):
     dx = v
     dv = Fx / car.mass
     # rolling resistance moment, vanishing with the rolling speed (creep limit below)
-    Vr = omega * car.radius
-    My = car.rolling_resistance * car.Fz * car.radius * Vr / (Vr * Vr + V_CREEP**2) ** 0.5
+    My = rolling_resistance_moment(car.rolling_resistance, car.Fz, car.radius, omega)
     domega = (-car.radius * Fx - T_b - My) / car.wheel_inertia
     if car.thermal is None:
         dT = 0.0 * T_tread

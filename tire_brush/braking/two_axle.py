@@ -12,9 +12,12 @@ brake torque shared equally), which is the classic brake-proportioning model (e.
 
     Fz_f = m (g l_r - a h) / (2 L),    Fz_r = m (g l_f + a h) / (2 L)   (per wheel)
     m a  = 2 (Fx_f + Fx_r),            Fx_i = Fz_i mu(kappa_i, v, Fz_i, T)
-    J w_i' = -R Fx_i - T_b,i,          T_b,i' = u_i (rate-limited, 0 <= T_b,i <= T_max,i)
+    J w_i' = -R Fx_i - T_b,i - My_i,   T_b,i' = u_i (rate-limited, 0 <= T_b,i <= T_max,i)
 
-``l_f``, ``l_r`` are the distances of the centre of gravity from the front and rear axle
+``My_i = f_r Fz_i R`` is the tire's rolling resistance moment (smoothly zero on a locked
+wheel, :func:`.quarter_car.rolling_resistance_moment`; ``f_r = 0`` by default), as the FMU's
+``My`` output puts it on the wheel of the FMU-driven car. ``l_f``, ``l_r`` are the
+distances of the centre of gravity from the front and rear axle
 (``L = l_f + l_r``), ``h`` its height. ``a`` appears on both sides (the loads depend on the
 deceleration they produce); it is solved at every evaluation by fixed-point iteration, which
 contracts because ``h |dmu/dFz| / L << 1``. The load dependence of the friction comes from the
@@ -59,6 +62,7 @@ import numpy as np
 from lookup.errors import ConvergenceError, InputError
 
 from .abs_control import BrakeController
+from .quarter_car import rolling_resistance_moment
 from .reference import G_STANDARD
 
 FxOverFz = Callable[[float, float, float, float], float]
@@ -93,6 +97,8 @@ class TwoAxleCar:
     track : float
         Track width [m] (distance between the left and right wheels of an axle; the
         two-track model's lever of the yaw moment, :func:`simulate_two_track`).
+    rolling_resistance : float
+        Rolling resistance coefficient ``f_r`` of every tire [1] (module docstring).
     """
 
     mass: float
@@ -106,6 +112,7 @@ class TwoAxleCar:
     brake_torque_rate_max: float
     g: float = G_STANDARD
     track: float = 1.55
+    rolling_resistance: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("mass", "wheelbase", "cg_to_front", "cg_height", "wheel_inertia",
@@ -117,6 +124,9 @@ class TwoAxleCar:
         if not self.cg_to_front < self.wheelbase:
             raise InputError("must be shorter than the wheelbase", field="car.cg_to_front",
                              value=self.cg_to_front)
+        if not (math.isfinite(self.rolling_resistance) and 0 <= self.rolling_resistance < 1):
+            raise InputError("must be a finite number in [0, 1)",
+                             field="car.rolling_resistance", value=self.rolling_resistance)
         if not 0.0 <= self.brake_balance <= 1.0:
             raise InputError("must be in [0, 1]", field="car.brake_balance",
                              value=self.brake_balance)
@@ -220,7 +230,8 @@ def simulate_two_axle(car: TwoAxleCar, fx_over_fz: FxOverFz,
         w = np.array([wf, wr])
         a, Fz, _, mu = forces(v, w)
         Fx = Fz * mu
-        dw = (-R * Fx - np.array([Tf, Tr])) / J
+        My = rolling_resistance_moment(car.rolling_resistance, Fz, R, w)
+        dw = (-R * Fx - np.array([Tf, Tr]) - My) / J
         return np.array([v, a, dw[0], dw[1], u[0], u[1]])
 
     y = np.array([0.0, v0, v0 / R, v0 / R, 0.0, 0.0])
@@ -393,7 +404,8 @@ def simulate_two_track(car: TwoAxleCar, fx_over_fz, controllers, v0: float, v_st
     def rhs(y: np.ndarray, u: np.ndarray) -> np.ndarray:
         w = np.maximum(y[2:6], 0.0)
         a, Fz, _, mu, _ = forces(y[0], y[1], w)
-        dw = (-R * Fz * mu - y[6:10]) / J
+        My = rolling_resistance_moment(car.rolling_resistance, Fz, R, w)
+        dw = (-R * Fz * mu - y[6:10] - My) / J
         # the brake is a friction torque: it holds a stopped wheel, never turns it backwards
         dw[(w <= 0.0) & (dw < 0.0)] = 0.0
         return np.concatenate(([y[1], a], dw, u))
