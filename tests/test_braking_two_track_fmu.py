@@ -119,10 +119,14 @@ def test_two_track_fmu_agrees_with_the_force_map_on_the_default_grid(tmp_path):
     from dataclasses import replace
 
     spec = replace(spec, car=replace(spec.car, thermal=None))
-    fmap, _, _ = case_force_map(spec, case)
+    fmap, prov, _ = case_force_map(spec, case)
     fmap = fmap.fixed(T_K=case.T_K)
     sim = braking_simulator("passenger", "default", tmp_path, {})
-    c = car()
+    # the FMU puts its My on the wheels: the map car gets the same rolling resistance
+    from tire_brush.braking.friction import brush_rolling_resistance
+
+    f_r, _ = brush_rolling_resistance(prov, 10.0, spec.car.Fz, case.T_K)
+    c = replace(car(), rolling_resistance=f_r)
     road = MuProfile.uniform(0.3)
     for make in (lambda: abs_per_wheel(c), lambda: [LockedWheel(r) for r in wheel_rates(c)]):
         m = simulate_two_track(c, fmap, make(), 20.0, 1.0, case.T_K, road_right=road)

@@ -631,6 +631,15 @@ class FmuBrakingSimulator:
                                    f"(v = {res.v[-1]:.3g} m/s)")
         return res
 
+    def two_track(self, car: Any, controllers: Any, v0: float, v_stop: float,
+                  T_ambient: float, *, road_left: Callable[[float], float] | None = None,
+                  road_right: Callable[[float], float] | None = None) -> Any:
+        """One stop of the four-wheel car (:func:`simulate_two_track_fmu`, one FMU instance
+        per wheel) with this simulator's settings."""
+        return simulate_two_track_fmu(self.fmu, car, controllers, v0, T_ambient,
+                                      v_stop=v_stop, settings=self.settings,
+                                      road_left=road_left, road_right=road_right)
+
 
 def braking_simulator(tire: str | Path, grid: str | Path, work_dir: str | Path,
                       options: Mapping[str, Any] | None = None) -> FmuBrakingSimulator:

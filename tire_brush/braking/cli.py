@@ -36,6 +36,22 @@ def register(sub: argparse._SubParsersAction, simulator_factory=None) -> None:
     s.add_argument("--json", action="store_true",
                    help="print the results document (as results.json) on stdout")
     s.set_defaults(func=_run_study, simulator_factory=simulator_factory)
+    r = abs_sub.add_parser(
+        "roads", help="split-mu and mu-jumps: the four-wheel car on the map and the FMU",
+        description="Brake the four-wheel car (load transfer, brake balance) on roads whose "
+                    "friction differs left and right or changes along the stop (roads spec, "
+                    "TOML, or the name of a shipped one under models/studies), with the "
+                    "rule-based ABS and locked wheels, on the brush tire's force map and "
+                    "through four instances of its FMU; writes results.csv, results.json, "
+                    "trajectories/ and plots/ to the output folder.")
+    r.add_argument("spec", metavar="SPEC.toml", nargs="?", default="roads_default",
+                   help="roads spec file or shipped name (default roads_default)")
+    r.add_argument("-o", "--output", required=True, metavar="DIR", help="output folder")
+    r.add_argument("--no-fmu", action="store_true", help="the force map only")
+    r.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    r.add_argument("--json", action="store_true",
+                   help="print the results document (as results.json) on stdout")
+    r.set_defaults(func=_run_roads, simulator_factory=simulator_factory)
     w = abs_sub.add_parser(
         "wet-grip", help="UN R117 / ISO 23671 wet-grip test: BFC, G and label class",
         description="The wet-grip braking test of UN R117 Annex 5 / ISO 23671 on the brush "
@@ -56,6 +72,27 @@ def register(sub: argparse._SubParsersAction, simulator_factory=None) -> None:
     w.add_argument("--plot", metavar="FILE.png", default=None,
                    help="mu dry/wet against speed, deceleration and distance against time")
     w.set_defaults(func=_run_wet_grip)
+
+
+def _run_roads(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    from lookup.cli import dump_json
+
+    from .roads import load_roads_spec, print_roads, run_roads, write_roads
+
+    spec = load_roads_spec(args.spec)
+    if args.no_fmu:
+        spec = dataclasses.replace(spec, fmu=False)
+    progress = None if args.json else (lambda msg: print(f"# {msg}", file=sys.stderr))
+    doc, runs = run_roads(spec, simulator_factory=getattr(args, "simulator_factory", None),
+                          work_dir=args.output, progress=progress)
+    write_roads(doc, runs, args.output, plots=not args.no_plots)
+    if args.json:
+        dump_json(doc)
+    else:
+        print_roads(doc)
+    return 0
 
 
 def _run_wet_grip(args: argparse.Namespace) -> int:

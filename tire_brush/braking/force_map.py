@@ -241,15 +241,23 @@ class ForceMap:
     # -- numpy evaluation -----------------------------------------------------------------------
     def __call__(self, kappa, vx, Fz, T_K) -> np.ndarray:
         """``Fx/Fz`` [1] from the spline (inputs clamped to the axes), numpy broadcasting."""
-        args = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (kappa, vx, Fz, T_K)))
-        pts = []
-        for name in self.active:
-            lo, hi = self.bounds(name)
-            x = np.clip(args[INPUTS.index(name)], lo, hi)
-            pts.append(self._coord(name, x))
-        shape = args[0].shape
-        xi = np.stack([p.ravel() for p in pts], axis=-1)
-        return self._ndbspline()(xi).reshape(shape)
+        args = (kappa, vx, Fz, T_K)
+        shape = np.broadcast_shapes(*(np.shape(a) for a in args))
+        xi = np.empty((*shape, len(self.active)))
+        # the spline coordinates, clamped to the axes (a lean loop: simulations call this
+        # with a handful of points per step)
+        for j, (i, lo, hi, log) in enumerate(self._clamps()):
+            x = np.minimum(np.maximum(np.asarray(args[i], dtype=float), lo), hi)
+            xi[..., j] = np.log10(x) if log else x
+        return self._ndbspline()(xi.reshape(-1, len(self.active))).reshape(shape)
+
+    def _clamps(self) -> tuple[tuple[int, float, float, bool], ...]:
+        """Per active axis: input position, range and whether its coordinate is log10."""
+        cache = self.__dict__.get("_clamp_cache")
+        if cache is None:
+            cache = tuple((INPUTS.index(n), *self.bounds(n), n == "vx") for n in self.active)
+            object.__setattr__(self, "_clamp_cache", cache)
+        return cache
 
     def on_grid(self, kappa, vx, Fz, T_K) -> np.ndarray:
         """``Fx/Fz`` [1] on the tensor grid of four 1-D coordinate arrays (inputs clamped to the

@@ -131,3 +131,36 @@ def plot_distances(results: list[CaseResult], path: str | Path) -> Path:
     ax.legend(fontsize=8)
     fig.savefig(path, dpi=110)
     return Path(path)
+
+
+def plot_road(road: str, runs: dict, path: str | Path) -> Path:
+    """One road of ``tirefric abs roads``: speed against distance, the yaw moment the steering
+    must hold, and each wheel's braking slip, per controller and model (map solid, FMU
+    dashed)."""
+    from .two_axle import WHEELS
+
+    fig = Figure(figsize=(8, 9), layout="constrained")
+    ax = fig.subplots(3, 1)
+    colours = {"abs": "C1", "locked": "C3"}
+    for (_, ctrl, model), res in runs.items():
+        ls = "-" if model == "map" else "--"
+        lab = f"{ctrl}, {model}: {res.stopping_distance:.2f} m"
+        col = colours.get(ctrl, "C0")
+        ax[0].plot(res.x, res.v, color=col, ls=ls, label=lab)
+        ax[1].plot(res.t, np.asarray(res.yaw_moment) / 1e3, color=col, ls=ls, label=lab)
+        if ctrl == "abs":
+            for i, wc in enumerate(("C0", "C2", "C4", "C5")):
+                ax[2].plot(res.t, -res.kappa[:, i], color=wc, ls=ls, lw=0.8,
+                           label=f"{WHEELS[i]}, {model}")
+    ax[0].set_xlabel("distance x [m]")
+    ax[0].set_ylabel("speed v [m/s]")
+    ax[1].set_ylabel("yaw moment M_z [kN m] (> 0: left)")
+    ax[1].set_xlabel("time t [s]")
+    ax[2].set_ylabel("braking slip -kappa, ABS [1]")
+    ax[2].set_xlabel("time t [s]")
+    ax[2].set_ylim(0, 1.05)
+    for a in ax:
+        a.legend(fontsize=7)
+    fig.suptitle(f"road {road}", fontsize=10)
+    fig.savefig(path, dpi=110)
+    return Path(path)

@@ -209,8 +209,10 @@ def simulate_two_axle(car: TwoAxleCar, fx_over_fz: FxOverFz,
     phi = car.brake_balance
     T_cap = (car.brake_torque_max * phi / 2.0, car.brake_torque_max * (1.0 - phi) / 2.0)
 
+    a_last = [0.0]     # the fixed point starts from the last deceleration (1-2 iterations)
+
     def forces(v: float, w: np.ndarray) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
-        a = 0.0
+        a = a_last[0]
         for _ in range(50):                     # loads <-> deceleration (module docstring)
             Fz = np.array(car.wheel_loads(a))
             kappa = (w * R - v) / v
@@ -223,6 +225,7 @@ def simulate_two_axle(car: TwoAxleCar, fx_over_fz: FxOverFz,
             a = a_new
         else:
             raise ConvergenceError("load transfer did not converge")
+        a_last[0] = a
         return a, Fz, kappa, mu
 
     def rhs(y: np.ndarray, u: np.ndarray) -> np.ndarray:
@@ -383,10 +386,12 @@ def simulate_two_track(car: TwoAxleCar, fx_over_fz, controllers, v0: float, v_st
         fr = 1.0 if right is None else float(right(x))
         return np.array([fl, fr, fl, fr])
 
+    a_last = [0.0]     # the fixed point starts from the last deceleration (1-2 iterations)
+
     def forces(x: float, v: float, w: np.ndarray):
         f = factors(x)
         kappa = (w * R - v) / v
-        a = 0.0
+        a = a_last[0]
         for _ in range(30):
             Fz = wheel_load_split(car, a)
             mu = np.asarray(fx_over_fz(kappa, v, Fz, T_ambient), dtype=float) * f
@@ -398,6 +403,7 @@ def simulate_two_track(car: TwoAxleCar, fx_over_fz, controllers, v0: float, v_st
             a = a_new
         else:
             raise ConvergenceError("load transfer did not converge")
+        a_last[0] = a
         Fz = wheel_load_split(car, a)
         return a, Fz, kappa, mu, f
 
