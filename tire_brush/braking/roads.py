@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import csv
 import json
-import math
 import sys
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, replace
@@ -313,6 +312,8 @@ def write_roads(doc: dict[str, Any], runs: dict[tuple[str, str, str], TwoTrackRe
                 out_dir: str | Path, *, plots: bool = True) -> Path:
     """``results.csv``, ``results.json``, one trajectory CSV per run and (``plots``) one
     figure per road into ``out_dir``; returns the folder."""
+    from .study import jsonable
+
     out = Path(out_dir)
     (out / "trajectories").mkdir(parents=True, exist_ok=True)
     with open(out / "results.csv", "w", newline="") as fh:
@@ -321,7 +322,7 @@ def write_roads(doc: dict[str, Any], runs: dict[tuple[str, str, str], TwoTrackRe
         for r in doc["results"]:
             w.writerow([r[k] for k in RESULT_KEYS])
     with open(out / "results.json", "w") as fh:
-        json.dump(_jsonable(doc), fh, indent=2)
+        json.dump(jsonable(doc), fh, indent=2)
     for (road, ctrl, model), res in runs.items():
         with open(out / "trajectories" / f"{road}_{ctrl}_{model}.csv", "w", newline="") as fh:
             w = csv.writer(fh)
@@ -338,20 +339,6 @@ def write_roads(doc: dict[str, Any], runs: dict[tuple[str, str, str], TwoTrackRe
             sel = {k: v for k, v in runs.items() if k[0] == road["name"]}
             plot_road(road["name"], sel, out / "plots" / f"{road['name']}.png")
     return out
-
-
-def _jsonable(obj: Any) -> Any:
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, float | np.floating):
-        return float(obj) if math.isfinite(obj) else None
-    if isinstance(obj, np.integer):
-        return int(obj)
-    return obj
 
 
 def print_roads(doc: dict[str, Any], file=sys.stdout) -> None:

@@ -948,7 +948,7 @@ def write_results(spec: StudySpec, results: list[CaseResult | CaseFailure],
                   "T_C": "Celsius", "stop_time_*": "s", "mu_*": "1", "T_tread_*": "K",
                   "*_mean_slip": "1"},
         "v0_m_per_s": spec.v0, "v_stop_m_per_s": spec.v_stop,
-        "vehicle": _jsonable(asdict(spec.car)),
+        "vehicle": jsonable(asdict(spec.car)),
         "abs": dict(asdict(spec.abs_params),
                     **({"slip_threshold": "slip_map"} if spec.abs_slip_from_map else {})),
         "fmu_abs": spec.fmu_abs, "fmu": spec.fmu,
@@ -956,14 +956,14 @@ def write_results(spec: StudySpec, results: list[CaseResult | CaseFailure],
                     stop_when_verified=spec.ocp_stop_when_verified),
         "simulation": asdict(spec.simulation), "map": asdict(spec.maps),
         "friction": spec.friction,
-        "cases": [dict(r.summary, provenance=_jsonable(r.provenance),
+        "cases": [dict(r.summary, provenance=jsonable(r.provenance),
                        ocp_trajectory={"t": r.ocp.t.tolist(), "kappa": r.ocp.kappa.tolist(),
                                        "v": r.ocp.v.tolist()})
                   for r in results],
         "failed": [{"case": f.case.label, "error": f.error} for f in failed],
     }
     with open(out / "results.json", "w") as fh:
-        json.dump(_jsonable(doc), fh, indent=2)
+        json.dump(jsonable(doc), fh, indent=2)
     if plots:
         from . import plots as plotting
 
@@ -976,13 +976,17 @@ def write_results(spec: StudySpec, results: list[CaseResult | CaseFailure],
     return doc
 
 
-def _jsonable(obj: Any) -> Any:
+def jsonable(obj: Any) -> Any:
+    """``obj`` with numpy scalars and arrays as plain numbers and lists, and non-finite
+    floats as None (JSON has no NaN): for the results documents of the studies."""
     if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
+        return {str(k): jsonable(v) for k, v in obj.items()}
     if isinstance(obj, list | tuple):
-        return [_jsonable(v) for v in obj]
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return jsonable(obj.tolist())
     if isinstance(obj, np.generic):
-        return obj.item()
+        obj = obj.item()
     if isinstance(obj, float) and not math.isfinite(obj):
         return None
     return obj
