@@ -40,6 +40,7 @@ from lookup.paths import resolve_model_file
 from .abs_control import ABSParams, LockedWheel, RuleBasedABS
 from .force_map import ForceMap, default_axes
 from .road import MuProfile
+from .study import ErrorCollector, jsonable
 from .two_axle import (
     WHEELS,
     TwoAxleCar,
@@ -113,18 +114,8 @@ def load_roads_spec(path: str | Path) -> RoadsSpec:
     """
     path = resolve_model_file(path, "studies")
     root = Table.load(path)
-    errors: list[InputError] = []
-
-    def collect(fn, *args, **kw):
-        try:
-            return fn(*args, **kw)
-        except InputErrors as exc:
-            errors.extend(exc.errors)
-        except InputError as exc:
-            errors.append(exc if exc.source is not None else
-                          InputError(exc.message, source=path, field=exc.field,
-                                     value=exc.value))
-        return None
+    collect = ErrorCollector(path)
+    errors = collect.errors
 
     root.raw("provenance", "")
     st = root.table("study")
@@ -312,8 +303,6 @@ def write_roads(doc: dict[str, Any], runs: dict[tuple[str, str, str], TwoTrackRe
                 out_dir: str | Path, *, plots: bool = True) -> Path:
     """``results.csv``, ``results.json``, one trajectory CSV per run and (``plots``) one
     figure per road into ``out_dir``; returns the folder."""
-    from .study import jsonable
-
     out = Path(out_dir)
     (out / "trajectories").mkdir(parents=True, exist_ok=True)
     with open(out / "results.csv", "w", newline="") as fh:

@@ -161,6 +161,36 @@ class StudySpec:
     ocp_stop_when_verified: bool = False
 
 
+class ErrorCollector:
+    """Calls a spec's readers and keeps their errors, so that a spec file's problems are
+    reported together (:class:`~lookup.errors.InputErrors`).
+
+    ``collect(fn, *args, rename=None, **kw)`` returns ``fn(*args, **kw)``, or None after
+    adding its error(s) to :attr:`errors`; an error without a file (a dataclass validator's)
+    gets ``path`` as its source and its field renamed by ``rename``.
+    """
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.errors: list[InputError] = []
+
+    def located(self, exc: InputError, rename: dict[str, str]) -> InputError:
+        """The error with this file as its source (dataclass validators know no file)."""
+        if exc.source is not None:
+            return exc
+        fld = rename.get(exc.field or "", exc.field)
+        return InputError(exc.message, source=self.path, field=fld, value=exc.value)
+
+    def __call__(self, fn, *args, rename: dict[str, str] | None = None, **kw):
+        try:
+            return fn(*args, **kw)
+        except InputErrors as exc:
+            self.errors.extend(self.located(e, rename or {}) for e in exc.errors)
+        except InputError as exc:
+            self.errors.append(self.located(exc, rename or {}))
+        return None
+
+
 def load_study(path: str | Path) -> StudySpec:
     """Read and validate a study spec (file or shipped name under ``models/studies``).
 
@@ -168,23 +198,8 @@ def load_study(path: str | Path) -> StudySpec:
     """
     path = resolve_model_file(path, "studies")
     root = Table.load(path)
-    errors: list[InputError] = []
-
-    def located(exc: InputError, rename: dict[str, str]) -> InputError:
-        """The error with this file as its source (dataclass validators know no file)."""
-        if exc.source is not None:
-            return exc
-        fld = rename.get(exc.field or "", exc.field)
-        return InputError(exc.message, source=path, field=fld, value=exc.value)
-
-    def collect(fn, *args, rename: dict[str, str] | None = None, **kw):
-        try:
-            return fn(*args, **kw)
-        except InputErrors as exc:
-            errors.extend(located(e, rename or {}) for e in exc.errors)
-        except InputError as exc:
-            errors.append(located(exc, rename or {}))
-        return None
+    collect = ErrorCollector(path)
+    errors = collect.errors
 
     root.raw("provenance", "")
     st = root.table("study")
