@@ -119,7 +119,6 @@ def bench_study_ocp(study: str, repeat: int, variants: tuple[str, ...] = ("compi
     """
     from dataclasses import replace
 
-    from lookup.errors import ConvergenceError
     from tire_brush.braking.abs_control import LockedWheel, RuleBasedABS
     from tire_brush.braking.slip_map import optimal_slip
     from tire_brush.braking.study import (
@@ -129,6 +128,7 @@ def bench_study_ocp(study: str, repeat: int, variants: tuple[str, ...] = ("compi
         solve_ocp_from_starts,
     )
     from tire_brush.braking.thermal_dp import thermal_ramp_bound
+    from tirefric.errors import ConvergenceError
 
     spec0 = load_study(study)
     rows, per_case = [], []

@@ -4,5 +4,3 @@ Data flow (see ``docs/design.md``): compound and surface files (``models/``) ->
 :mod:`lookup.compound`, :mod:`lookup.surface` -> :class:`lookup.friction.PerssonFriction`
 (cold and hot branch) -> grids. This package knows nothing of tires.
 """
-
-__version__ = "0.1.0"

@@ -14,7 +14,8 @@ from typing import Protocol
 
 import numpy as np
 
-from .errors import InputError
+from tirefric.errors import InputError
+
 from .shift import ShiftFactor
 
 

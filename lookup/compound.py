@@ -46,11 +46,12 @@ from pathlib import Path
 
 import numpy as np
 
+from tirefric.config import Table, csv_column_names, read_csv_table
+from tirefric.errors import InputError
+from tirefric.paths import resolve_model_file
+
 from .adhesion import GaussianShearLaw, NoAdhesion, ShearLaw
-from .config import Table, csv_column_names, read_csv_table
-from .errors import InputError
 from .modulus import Modulus, ModulusTable, Prony, SingleRelaxation, TabulatedMasterCurve
-from .paths import resolve_model_file
 from .shift import WLF, Arrhenius, ShiftFactor, TabulatedShift
 from .softening import KrausSoftening, NoSoftening, Softening, TabulatedSoftening
 

@@ -44,10 +44,11 @@ from typing import Any
 
 import numpy as np
 
-from . import __version__
+from tirefric import __version__
+from tirefric.errors import InputError
+
 from .compound import Compound
 from .contact import Phi, area_rescale, contact_fraction
-from .errors import InputError
 from .flash_temperature import HeatKernelSettings, heat_kernel, lateral_factor
 from .surface import Surface
 

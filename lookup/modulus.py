@@ -26,7 +26,7 @@ from typing import Literal, Protocol
 
 import numpy as np
 
-from .errors import InputError
+from tirefric.errors import InputError
 
 
 class Modulus(Protocol):

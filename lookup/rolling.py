@@ -58,8 +58,9 @@ from typing import Literal
 import numpy as np
 from scipy.special import itj0y0, j1, y1
 
+from tirefric.errors import InputError
+
 from .compound import Compound
-from .errors import InputError
 from .modulus import ModulusTable
 
 # -- numerical settings of the q integrals (resolution checked in tests/test_rolling.py) -------

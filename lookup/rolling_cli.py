@@ -12,8 +12,14 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from .cli import dump_json, parse_float, parse_float_list, parse_temperature_option, print_table
-from .errors import InputError
+from tirefric.cli import (
+    dump_json,
+    parse_float,
+    parse_float_list,
+    parse_temperature_option,
+    print_table,
+)
+from tirefric.errors import InputError
 
 #: Plot speeds when --v gives fewer than two values [m/s].
 PLOT_V_DEFAULT = (1e-9, 1e2)

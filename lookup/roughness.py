@@ -24,7 +24,7 @@ from typing import Literal, Protocol
 
 import numpy as np
 
-from .errors import InputError
+from tirefric.errors import InputError
 
 
 class PowerSpectrum(Protocol):

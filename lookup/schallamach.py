@@ -43,7 +43,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import special
 
-from .errors import InputError
+from tirefric.errors import InputError
+
 from .shift import K_B, ShiftFactor
 
 MeanForce = Literal["A5", "A4"]

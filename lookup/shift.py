@@ -17,7 +17,7 @@ from typing import Protocol
 
 import numpy as np
 
-from .errors import InputError
+from tirefric.errors import InputError
 
 K_B = 1.380649e-23  # Boltzmann constant [J/K]
 

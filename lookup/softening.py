@@ -18,7 +18,7 @@ from typing import Protocol
 
 import numpy as np
 
-from .errors import InputError
+from tirefric.errors import InputError
 
 
 class Softening(Protocol):

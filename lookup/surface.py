@@ -43,9 +43,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import Table, read_csv_table
-from .errors import InputError
-from .paths import resolve_model_file
+from tirefric.config import Table, read_csv_table
+from tirefric.errors import InputError
+from tirefric.paths import resolve_model_file
+
 from .roughness import CutoffRule, PowerSpectrum, SelfAffinePSD, TabulatedPSD
 
 

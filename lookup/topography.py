@@ -61,13 +61,13 @@ Heights are read by :func:`read_height_map` and :func:`read_line_scan`:
   Unknown keys are errors (a misspelt key is not silently ignored). A height map has one row
   of values per y (first row y = 0), values separated by commas and/or whitespace. A line scan
   has one value per line. A line scan can instead be a two-column CSV table with the header
-  ``x [unit], z [unit]`` (units as in :func:`lookup.config.read_csv_table`); x must be equally
+  ``x [unit], z [unit]`` (units as in :func:`tirefric.config.read_csv_table`); x must be equally
   spaced (to 1e-3 of the step) and then defines dx.
 * ``.npz``: arrays ``heights`` [m] (2D map or 1D scan) and ``dx`` [m], optional ``dy`` [m].
 * ``.npy``: a heights array [m]; the pixel size is passed as ``dx`` (and ``dy``) [m].
 
 NaN or infinite heights (missing points), non-positive pixel sizes and fewer than
-:data:`MIN_POINTS` points per axis are :class:`~lookup.errors.InputError`\ s naming the file,
+:data:`MIN_POINTS` points per axis are :class:`~tirefric.errors.InputError`\ s naming the file,
 the field and the value.
 """
 
@@ -83,8 +83,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import special
 
-from .config import UNITS, parse_quantity, read_csv_table
-from .errors import InputError
+from tirefric.config import UNITS, parse_quantity, read_csv_table
+from tirefric.errors import InputError
+
 from .roughness import PowerSpectrum, SelfAffinePSD
 
 #: Fewest points per axis accepted for a spectrum (fewer give < 8 wavenumbers).
@@ -685,7 +686,7 @@ def hrms_from_psd_1d(q: ArrayLike, C1D: ArrayLike) -> float:
 def write_psd_table(path: str | Path, q: ArrayLike, C: ArrayLike, provenance: str) -> Path:
     """Write C(q) as the CSV table a surface TOML reads (``model = "tabulated"``).
 
-    Columns ``q [1/m], C [m^4]`` (read by :func:`lookup.config.read_csv_table` and
+    Columns ``q [1/m], C [m^4]`` (read by :func:`tirefric.config.read_csv_table` and
     :class:`lookup.roughness.TabulatedPSD`), preceded by ``#`` lines with ``provenance``
     (where the topography came from, instrument, processing: detrend, window, bins).
 

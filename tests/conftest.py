@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import lookup
+import tirefric
 from lookup.adhesion import GaussianShearLaw, NoAdhesion
 from lookup.compound import Compound, RubberThermal
 from lookup.modulus import Prony, SingleRelaxation
@@ -37,7 +38,7 @@ def imported_copy() -> tuple[str, Path]:
 def pytest_report_header(config: pytest.Config) -> str:
     kind, where = imported_copy()
     label = "working tree" if kind == "working-tree" else "installed copy"
-    return f"tirefric: lookup imported from {where} ({label}), version {lookup.__version__}"
+    return f"tirefric: lookup imported from {where} ({label}), version {tirefric.__version__}"
 
 
 def pytest_configure(config: pytest.Config) -> None:

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lookup.errors import InputError
 from lookup.grid import load_grid
 from lookup.grid.reader import FrictionGrid
 from lookup.shift import WLF
+from tirefric.errors import InputError
 
 
 def default_grid() -> FrictionGrid:

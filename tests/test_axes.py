@@ -19,8 +19,6 @@ import math
 import numpy as np
 import pytest
 
-from lookup.cli import main
-from lookup.errors import InputError
 from tire_brush.axes import (
     AXES,
     BRUSH_AXES,
@@ -35,6 +33,8 @@ from tire_brush.axes import (
 from tire_brush.friction import ConstantFriction
 from tire_brush.params import load_tire
 from tire_brush.steady import SteadyBrush
+from tirefric.cli import main
+from tirefric.errors import InputError
 
 FZ = 4000.0
 VX = 20.0

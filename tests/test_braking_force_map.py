@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lookup.errors import InputError
 from tire_brush.braking.force_map import ForceMap, default_axes, tensor_bspline_coefficients
 from tire_brush.braking.reference import burckhardt_road
+from tirefric.errors import InputError
 
 casadi = pytest.importorskip("casadi")
 

@@ -8,7 +8,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lookup.errors import ConvergenceError
 from tire_brush.braking import (
     ABSParams,
     ForceMap,
@@ -28,6 +27,7 @@ from tire_brush.braking.reference import (
     magic_formula_road,
     point_mass_stopping_distance,
 )
+from tirefric.errors import ConvergenceError
 
 pytest.importorskip("casadi")
 
@@ -239,8 +239,8 @@ def test_realistic_abs_cycles_at_4_to_10_hz_between_the_bounds(curve):
 
 
 def test_realistic_abs_hydraulics_refuse_bad_values():
-    from lookup.errors import InputError
     from tire_brush.braking import HydraulicsParams
+    from tirefric.errors import InputError
 
     for bad in ({"delay": -0.01}, {"release_factor": 0.5}, {"reference_decel": 0.0}):
         with pytest.raises(InputError, match="hydraulics"):
@@ -278,8 +278,8 @@ def test_mu_jump_high_low_high_through_the_map(controller):
 
 
 def test_mu_profile_refuses_bad_sections():
-    from lookup.errors import InputError
     from tire_brush.braking import MuProfile
+    from tirefric.errors import InputError
 
     assert MuProfile.patch(5.0, 8.0, 0.3)(6.0) == 0.3
     assert MuProfile.patch(5.0, 8.0, 0.3)(8.0) == 1.0

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lookup.errors import InputError
 from tire_brush.braking.reference import (
     BURCKHARDT_ROADS,
     MAGIC_FORMULA_ROADS,
@@ -15,6 +14,7 @@ from tire_brush.braking.reference import (
     magic_formula_road,
     point_mass_stopping_distance,
 )
+from tirefric.errors import InputError
 
 K = -np.linspace(0.0, 1.0, 200_001)   # brute-force slip grid, step 5e-6
 

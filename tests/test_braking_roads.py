@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from fmu_support import build_test_fmu, synthetic_grid
 
-from lookup.errors import InputErrors
 from tire_brush.braking.roads import load_roads_spec, run_roads, write_roads
+from tirefric.errors import InputErrors
 
 SPEC = """
 provenance = "test"

@@ -1,13 +1,13 @@
-"""Optimal slip maps against brute-force argmax; CSV export readable by lookup.config."""
+"""Optimal slip maps against brute-force argmax; CSV export readable by tirefric.config."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from lookup.config import read_csv_table
 from tire_brush.braking import ForceMap, default_axes, optimal_slip
 from tire_brush.braking.reference import burckhardt_road, magic_formula_road
+from tirefric.config import read_csv_table
 
 K = -np.linspace(0.0, 1.0, 100_001)   # brute-force grid, step 1e-5
 

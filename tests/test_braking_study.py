@@ -9,11 +9,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lookup.cli import main
-from lookup.errors import InputError, InputErrors
-from lookup.paths import models_dir
 from tire_brush.braking.friction import Case, brush_fx_over_fz, make_friction_source
 from tire_brush.braking.study import RESULT_KEYS, load_study
+from tirefric.cli import main
+from tirefric.errors import InputError, InputErrors
+from tirefric.paths import models_dir
 
 VEHICLE = models_dir() / "studies" / "vehicles" / "passenger.toml"
 

@@ -8,8 +8,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from lookup.errors import InputError, InputErrors
-from lookup.paths import models_dir
 from tire_brush.braking.abs_control import ABSParams, LockedWheel, RuleBasedABS, TorqueRamp
 from tire_brush.braking.force_map import ForceMap
 from tire_brush.braking.quarter_car import (
@@ -28,6 +26,8 @@ from tire_brush.braking.study import (
     point_mass_bound,
     solve_ocp_from_starts,
 )
+from tirefric.errors import InputError, InputErrors
+from tirefric.paths import models_dir
 
 VEHICLE = models_dir() / "studies" / "vehicles" / "passenger.toml"
 

@@ -90,7 +90,7 @@ def test_two_track_fmu_split_mu_between_the_uniform_roads(fmu):
 
 
 def test_two_track_fmu_refuses_bad_inputs(fmu):
-    from lookup.errors import InputError
+    from tirefric.errors import InputError
 
     c = car()
     with pytest.raises(InputError, match="four controllers"):
@@ -109,8 +109,8 @@ def test_two_track_fmu_agrees_with_the_force_map_on_the_default_grid(tmp_path):
     car's ABS agrees within 3 %, test_fmu_braking_cosim; the load transfer and per-wheel
     cycling add to it), mean yaw moments within 15 %."""
     from fmu_src.host.cosim import braking_simulator
-    from lookup.paths import models_dir
     from tire_brush.braking.study import case_force_map, load_study
+    from tirefric.paths import models_dir
 
     if not (models_dir() / "grids" / "default.nc").is_file():
         pytest.skip("default grid not built")

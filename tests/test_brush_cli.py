@@ -7,10 +7,10 @@ import json
 import numpy as np
 import pytest
 
-from lookup.cli import main
 from tire_brush.friction import ConstantFriction
 from tire_brush.params import load_tire
 from tire_brush.steady import SteadyBrush
+from tirefric.cli import main
 
 BASE = ["tire", "curve", "--tire", "passenger", "--Fz", "4000", "--vx", "20", "--T", "20"]
 

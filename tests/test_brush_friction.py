@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 from brush_cases import peaked_grid
 
-from lookup.errors import InputError
 from lookup.grid import FrictionGrid
 from tire_brush.friction import (
     BranchTable,
@@ -20,6 +19,7 @@ from tire_brush.friction import (
     blend,
     cold_weight,
 )
+from tirefric.errors import InputError
 
 
 def _random_grid(rng) -> FrictionGrid:

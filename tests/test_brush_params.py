@@ -6,9 +6,9 @@ import dataclasses
 
 import pytest
 
-from lookup.errors import InputError
-from lookup.paths import models_dir
 from tire_brush.params import PatchLaw, TireParams, load_tire
+from tirefric.errors import InputError
+from tirefric.paths import models_dir
 
 PASSENGER = (models_dir() / "tires" / "passenger.toml").read_text()
 

@@ -12,11 +12,11 @@ import numpy as np
 import pytest
 from brush_cases import T20, isotropic, pacejka_like, passenger, peaked_grid, without_thermal
 
-from lookup.errors import InputError
 from lookup.grid import FrictionGrid
 from tire_brush import reference as ref
 from tire_brush.friction import ConstantFriction, GridFriction
 from tire_brush.steady import N_STEADY, SteadyBrush
+from tirefric.errors import InputError
 
 FZ = 4000.0
 VX = 20.0

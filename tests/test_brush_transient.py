@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 from brush_cases import T20, passenger, peaked_grid, without_thermal
 
-from lookup.errors import InputError
 from tire_brush import reference as ref
 from tire_brush.friction import BranchTable, ConstantFriction, GridFriction
 from tire_brush.steady import SteadyBrush
 from tire_brush.transient import TransientBrushTire
+from tirefric.errors import InputError
 
 FZ = 4000.0
 VX = 20.0

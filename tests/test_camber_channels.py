@@ -19,10 +19,10 @@ import numpy as np
 import pytest
 from brush_cases import T20, pacejka_like, passenger
 
-from lookup.errors import InputError
 from lookup.grid import load_grid
 from tire_brush.steady import SteadyBrush
 from tire_brush.transient import TransientBrushTire
+from tirefric.errors import InputError
 
 FZ, VX = 4000.0, 20.0
 

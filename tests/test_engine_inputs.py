@@ -20,18 +20,18 @@ from conftest import T20, make_compound, make_surface
 from scipy.special import erf
 
 from lookup.adhesion import NoAdhesion
-from lookup.cli import main
 from lookup.compound import load_compound
-from lookup.config import read_csv_table
-from lookup.errors import InputError
 from lookup.friction import EngineSettings, PerssonFriction
 from lookup.grid.spec import load_spec
 from lookup.modulus import SingleRelaxation
-from lookup.paths import models_dir
 from lookup.reference import contact_area_elastic
 from lookup.roughness import CutoffRule
 from lookup.surface import load_surface
 from lookup.topography import psd_2d_from_1d
+from tirefric.cli import main
+from tirefric.config import read_csv_table
+from tirefric.errors import InputError
+from tirefric.paths import models_dir
 
 SUMMER = (models_dir() / "compounds" / "summer.toml").read_text()
 ASPHALT = (models_dir() / "surfaces" / "asphalt.toml").read_text()
@@ -261,7 +261,7 @@ def test_cold_only_study_needs_no_thermal_data(tmp_path: Path, capsys) -> None:
 
 def run_mu(*extra: str) -> subprocess.CompletedProcess:
     argv = ["mu", "--compound", "summer", "--surface", "asphalt", "--v", "0.01", *extra]
-    return subprocess.run([sys.executable, "-m", "lookup.cli", *argv], capture_output=True,
+    return subprocess.run([sys.executable, "-m", "tirefric.cli", *argv], capture_output=True,
                           text=True)
 
 

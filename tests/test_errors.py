@@ -1,5 +1,5 @@
 """One error hierarchy: every exception class the packages define derives from
-:class:`lookup.errors.TirefricError`, so a caller can catch the product's errors in one place
+:class:`tirefric.errors.TirefricError`, so a caller can catch the product's errors in one place
 (``docs/design.md``, "Conventions")."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import fmu_src
 import lookup
 import tire_brush
 from fmu_src.runtime.state import StateFormatError, from_bytes, to_bytes
-from lookup.errors import TirefricError
+from tirefric.errors import TirefricError
 
 
 def _exception_classes() -> list[type]:

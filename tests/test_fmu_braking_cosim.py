@@ -22,10 +22,10 @@ from fmu_src.host.cosim import (
     braking_simulator,
     simulate_braking_fmu,
 )
-from lookup.errors import InputError
-from lookup.paths import models_dir
 from tire_brush.braking.abs_control import ABSParams, LockedWheel, RuleBasedABS, TorqueRamp
 from tire_brush.braking.quarter_car import QuarterCar, ThermalParams, load_quarter_car
+from tirefric.errors import InputError
+from tirefric.paths import models_dir
 
 VEHICLE = models_dir() / "studies" / "vehicles" / "passenger.toml"
 
@@ -188,8 +188,8 @@ step = "1 ms"
 
 
 def test_study_writes_the_fmu_abs_distance(tmp_path):
-    from lookup.cli import main
     from tire_brush.braking.study import RESULT_KEYS
+    from tirefric.cli import main
 
     grid = synthetic_grid().save_npz(tmp_path / "synthetic.npz")
     out = tmp_path / "out"

@@ -15,11 +15,11 @@ from test_fmu_units import _si_exponents
 
 from fmu_src.make.build import BuildError, BuildOptions, build_fmu, guid_of
 from fmu_src.runtime.interface import UNITS
-from lookup.cli import main
-from lookup.errors import TirefricError
 from tire_brush.friction import GridFriction
 from tire_brush.params import load_tire
 from tire_brush.transient import TransientBrushTire
+from tirefric.cli import main
+from tirefric.errors import TirefricError
 
 
 @pytest.fixture(scope="module")

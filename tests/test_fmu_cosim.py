@@ -188,7 +188,7 @@ def test_fmu_ignores_other_modules_of_the_same_names(fmu, tmp_path):
     ref = [model.step(1e-3, *U[:, k]).as_array().tolist() for k in range(100)]
     script = textwrap.dedent(f"""
         import json, sys, types
-        for name in ("lookup", "lookup.errors", "lookup.grid", "lookup.grid.reader",
+        for name in ("tirefric", "tirefric.errors", "lookup", "lookup.grid", "lookup.grid.reader",
                      "tire_brush", "tire_brush.transient", "tire_brush.params", "fmu_src",
                      "fmu_src.runtime.slave", "fmu_src.runtime.guard"):
             sys.modules[name] = types.ModuleType(name)   # empty impostors

@@ -366,7 +366,7 @@ def test_build_options_are_start_values(tmp_path):
 def test_cli_build_native_and_info(tmp_path, capsys):
     import json
 
-    from lookup.cli import main
+    from tirefric.cli import main
 
     grid = tmp_path / "g.npz"
     synthetic_grid().save_npz(grid)

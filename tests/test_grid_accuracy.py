@@ -20,10 +20,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from lookup.errors import InputError
 from lookup.grid import load_grid
 from lookup.grid.build import build_grid, make_model
 from lookup.grid.spec import load_spec
+from tirefric.errors import InputError
 
 pytest.importorskip("lookup.friction")
 

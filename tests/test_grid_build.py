@@ -14,11 +14,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import pytest
 
-from lookup.errors import GridError, InputError
 from lookup.grid import load_grid
 from lookup.grid.build import Checkpoint, build_grid, fingerprint
 from lookup.grid.reader import VARIABLES, round_to_float32
 from lookup.grid.spec import GridSpec, load_spec
+from tirefric.errors import GridError, InputError
 
 
 @dataclass

@@ -7,9 +7,10 @@ import json
 import numpy as np
 import pytest
 
-from lookup.cli import MU_KEYS, main
+from lookup.cli import MU_KEYS
 from lookup.grid import FrictionGrid, load_grid, save_grid
 from lookup.grid.reader import VARIABLES
+from tirefric.cli import main
 
 SPEC = """
 name = "cli-test"

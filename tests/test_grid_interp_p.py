@@ -31,9 +31,9 @@ import numpy as np
 import pytest
 from grid_cases import default_grid, reduced_speed_linear_grid
 
-from lookup.errors import GridError
 from lookup.grid.reader import FrictionGrid, pchip_slopes
 from lookup.shift import WLF
+from tirefric.errors import GridError
 
 pytest.importorskip("lookup.friction")
 
@@ -231,7 +231,7 @@ def test_default_grid_best_scheme_against_engine() -> None:
 
 def test_grid_query_cli_p_interp() -> None:
     default_grid()
-    r = [subprocess.run([sys.executable, "-m", "lookup.cli", "grid", "query", "default", "--v",
+    r = [subprocess.run([sys.executable, "-m", "tirefric.cli", "grid", "query", "default", "--v",
                          "0.3", "--T", "21.3", "--p", "0.73 MPa", "--v-interp", "pchip",
                          "--T-interp", "reduced_speed", "--p-interp", pi, "--json"],
                         capture_output=True, text=True) for pi in ("linear", "pchip")]

@@ -14,8 +14,8 @@ import zipfile
 import numpy as np
 import pytest
 
-from lookup.errors import GridError
 from lookup.grid.reader import AXES, VARIABLES, FrictionGrid, content_hash, pchip_slopes
+from tirefric.errors import GridError
 
 RNG_SEED = 20240611
 

@@ -24,9 +24,9 @@ import numpy as np
 import pytest
 from grid_cases import default_grid, reduced_speed_linear_grid
 
-from lookup.errors import GridError
 from lookup.grid.reader import FrictionGrid, shift_from_meta
 from lookup.shift import WLF, TabulatedShift
+from tirefric.errors import GridError
 
 pytest.importorskip("lookup.friction")
 
@@ -146,7 +146,7 @@ def test_default_grid_reduced_speed_against_engine() -> None:
 
 def test_grid_query_cli_T_interp() -> None:
     default_grid()
-    r = [subprocess.run([sys.executable, "-m", "lookup.cli", "grid", "query", "default", "--v",
+    r = [subprocess.run([sys.executable, "-m", "tirefric.cli", "grid", "query", "default", "--v",
                          "0.3", "--T", "21.3", "--p", "0.3 MPa", "--v-interp", "pchip",
                          "--T-interp", ti, "--json"], capture_output=True, text=True)
          for ti in ("linear", "reduced_speed")]

@@ -10,10 +10,10 @@ import h5py
 import numpy as np
 import pytest
 
-from lookup.errors import GridError, InputError
 from lookup.grid import load_grid, save_grid
 from lookup.grid.reader import AXES, AXIS_UNITS, VARIABLE_UNITS, VARIABLES, FrictionGrid
 from lookup.grid.store import grid_summary, resolve_grid_path
+from tirefric.errors import GridError, InputError
 
 RNG_SEED = 7
 

@@ -21,11 +21,11 @@ import time
 import numpy as np
 import pytest
 
-from lookup import __version__
-from lookup.cli import main
 from tire_brush.cli import load_friction
 from tire_brush.params import load_tire
 from tire_brush.steady import SteadyBrush
+from tirefric import __version__
+from tirefric.cli import main
 
 T_C, VX = 20.0, 20.0
 CHANNELS = ("Fx_pure", "Fy_pure", "Mz_pure", "Fx_combined", "Fy_combined", "Mz_combined")

@@ -11,12 +11,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lookup.cli import main
 from lookup.compound import load_compound
-from lookup.errors import InputError
 from lookup.friction import PerssonFriction
-from lookup.paths import models_dir
 from lookup.surface import load_surface
+from tirefric.cli import main
+from tirefric.errors import InputError
+from tirefric.paths import models_dir
 
 SUMMER = (models_dir() / "compounds" / "summer.toml").read_text()
 ASPHALT = (models_dir() / "surfaces" / "asphalt.toml").read_text()
@@ -160,7 +160,7 @@ def test_cli_mu_bad_input_exits_nonzero(args, needle) -> None:
     for k, v in zip(args[::2], args[1::2], strict=True):
         base[k] = v
     argv = ["mu"] + [x for kv in base.items() for x in kv]
-    r = subprocess.run([sys.executable, "-m", "lookup.cli", *argv], capture_output=True,
+    r = subprocess.run([sys.executable, "-m", "tirefric.cli", *argv], capture_output=True,
                        text=True)
     assert r.returncode == 2 and needle in r.stderr and "Traceback" not in r.stderr
 

@@ -219,9 +219,9 @@ def test_cli_reports_the_hot_residual(capsys) -> None:
     solves it printed: 0 < r <= hot_tol when the speeds heat the rubber (10 m/s: tens of K)."""
     import json
 
-    from lookup.cli import main
     from lookup.compound import load_compound
     from lookup.surface import load_surface
+    from tirefric.cli import main
 
     assert main(["mu", "--compound", "summer", "--surface", "asphalt", "--v", "0.01,10",
                  "--T", "20", "--p", "3e5", "--json"]) == 0

@@ -29,7 +29,6 @@ from conftest import T20, make_compound
 
 from lookup import reference
 from lookup.compound import load_compound
-from lookup.errors import InputError
 from lookup.modulus import SingleRelaxation
 from lookup.rolling import (
     EffectiveModulus,
@@ -46,6 +45,7 @@ from lookup.rolling import (
     wedge_strain,
 )
 from lookup.softening import TabulatedSoftening
+from tirefric.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]
 E0, TAU = 1e6, 1.0
@@ -391,9 +391,9 @@ def _pyproject_rolling_entry() -> str:
 
 @pytest.fixture
 def main(monkeypatch):
-    """lookup.cli.main with the entry point declared in pyproject.toml (an installed copy
+    """tirefric.cli.main with the entry point declared in pyproject.toml (an installed copy
     made before this command existed does not list it yet)."""
-    import lookup.cli as cli
+    import tirefric.cli as cli
 
     real = cli.entry_points
 

@@ -98,7 +98,7 @@ def test_rolling_loss_heats_the_tread_by_its_share(grid, table):
 
 def test_bad_rolling_table_is_refused(grid, table):
     """A table with a negative coefficient or a share outside [0, 1] is refused, naming it."""
-    from lookup.errors import InputError
+    from tirefric.errors import InputError
 
     tr = TransientBrushTire(passenger(), grid)
     for f_r, share in ((-table.f_r, table.tread_share), (table.f_r, table.tread_share + 1.0)):
@@ -151,9 +151,9 @@ def test_coast_down_through_the_fmu_decelerates_by_rolling_resistance(tmp_path):
     by 0.04 K: f_r changes by well under 1 %; measured 0.2 %). The table's trilinear value
     is within 3 % of the model's (measured 2.1 % at this load, between the load nodes)."""
     from fmu_src.host.cosim import CosimSettings, simulate_braking_fmu
-    from lookup.paths import models_dir
     from tire_brush.braking.abs_control import TorqueRamp
     from tire_brush.braking.quarter_car import load_quarter_car
+    from tirefric.paths import models_dir
 
     car = load_quarter_car(models_dir() / "studies" / "vehicles" / "passenger.toml")
     fmu = build_native_fmu(passenger(), load_grid("default"), tmp_path / "n.fmu",
@@ -180,9 +180,9 @@ def test_quarter_car_wheel_carries_the_rolling_resistance_moment():
     study takes f_r from the tire's model on its grid's compound."""
     import dataclasses
 
-    from lookup.paths import models_dir
     from tire_brush.braking.friction import brush_rolling_resistance
     from tire_brush.braking.quarter_car import load_quarter_car, rhs
+    from tirefric.paths import models_dir
 
     car = load_quarter_car(models_dir() / "studies" / "vehicles" / "passenger.toml")
     rolling = dataclasses.replace(car, rolling_resistance=0.02)

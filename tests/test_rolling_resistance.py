@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 
 from lookup.compound import load_compound
-from lookup.errors import InputError, InputErrors
 from lookup.rolling import tread_rolling_resistance
 from tire_brush import rolling_resistance as rrm
 from tire_brush.params import load_tire
+from tirefric.errors import InputError, InputErrors
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
 

@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 from scipy import integrate, optimize, special
 
-from lookup.errors import InputError
 from lookup.schallamach import (
     SchallamachShearLaw,
     attached_fraction,
@@ -19,6 +18,7 @@ from lookup.schallamach import (
     v_star_patch,
 )
 from lookup.shift import K_B, Arrhenius
+from tirefric.errors import InputError
 
 
 def _reference_moments(s: float, Q: float) -> tuple[float, float]:

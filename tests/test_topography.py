@@ -17,8 +17,6 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from lookup.config import read_csv_table
-from lookup.errors import InputError
 from lookup.roughness import SelfAffinePSD, TabulatedPSD
 from lookup.topography import (
     MIN_POINTS,
@@ -42,6 +40,8 @@ from lookup.topography import (
     self_affine_height_map,
     write_psd_table,
 )
+from tirefric.config import read_csv_table
+from tirefric.errors import InputError
 
 DATA = Path(__file__).resolve().parents[1] / "models" / "surfaces" / "data"
 

@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 
 from lookup.compound import load_compound
-from lookup.errors import InputError
 from lookup.friction import PerssonFriction
 from lookup.surface import load_surface
 from lookup.wet.friction import WetPerssonFriction
@@ -19,6 +18,7 @@ from lookup.wet.squeeze import S_NODES, dry_share, mean_separation
 from lookup.wet.water import Lubricant, water_viscosity
 from tire_brush.hydroplaning import horne_speed, lifted_share
 from tire_brush.wet_grip import braking_force_coefficient, label_class, wet_grip_index
+from tirefric.errors import InputError
 
 SMALL = SealingSettings(n=128, n_maps=1, qc_per_decade=6)
 
@@ -119,7 +119,7 @@ def test_negative_depth(engines):
 
 
 def test_cli_wet_columns_and_errors():
-    base = [sys.executable, "-m", "lookup.cli", "mu", "--compound", "summer", "--surface",
+    base = [sys.executable, "-m", "tirefric.cli", "mu", "--compound", "summer", "--surface",
             "asphalt", "--v", "0.01,1", "--T", "20", "--p", "3e5"]
     out = subprocess.run([*base, "--water", "1mm", "--json", "--q-per-decade", "12"],
                          capture_output=True, text=True, check=True).stdout
@@ -181,8 +181,8 @@ qc_per_decade = 4
     # the build took depth 0 from the file's dry tables; a branch built against the grid in
     # memory is the same bit for bit, one that solves the dry engine again agrees to the
     # float32 storage of the dry tables
-    from lookup.errors import GridError
     from lookup.grid.wet_build import build_wet
+    from tirefric.errors import GridError
 
     spec = load_spec(spec_file)
     same, _ = build_wet(spec, dry=g)
@@ -198,8 +198,8 @@ qc_per_decade = 4
 
 
 def test_dry_grid_has_no_wet_branch():
-    from lookup.errors import GridError
     from lookup.grid.wet import load_wet
+    from tirefric.errors import GridError
 
     with pytest.raises(GridError, match="no wet branch"):
         load_wet("default")

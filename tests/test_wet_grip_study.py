@@ -11,7 +11,6 @@ import sys
 import numpy as np
 import pytest
 
-from lookup.errors import InputError
 from tire_brush.braking.simulation import SimResult
 from tire_brush.braking.wet_grip_test import (
     _grids,
@@ -28,6 +27,7 @@ from tire_brush.wet_friction import (
     peak_fx_over_fz,
 )
 from tire_brush.wet_grip import G_ACCEL, braking_force_coefficient, label_class
+from tirefric.errors import InputError
 
 KMH = 1 / 3.6
 
@@ -170,7 +170,7 @@ def test_wet_bfc_below_dry_and_reference_windows(spec):
 
 @pytest.mark.slow
 def test_cli_json_keys_and_errors(tmp_path):
-    base = [sys.executable, "-m", "lookup.cli", "abs", "wet-grip"]
+    base = [sys.executable, "-m", "tirefric.cli", "abs", "wet-grip"]
     out = subprocess.run([*base, "--json", "--plot", str(tmp_path / "w.png")],
                          capture_output=True, text=True, check=True).stdout
     doc = json.loads(out)

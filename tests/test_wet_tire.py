@@ -116,7 +116,7 @@ def test_full_hydroplaning_at_horne_speed(grid, wet, p_kpa):
 
 
 def test_bad_water_depth_is_refused(grid, wet):
-    from lookup.errors import InputError
+    from tirefric.errors import InputError
 
     tr = _tire(grid, wet)
     for d in (-1e-3, math.nan, math.inf):

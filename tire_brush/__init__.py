@@ -12,4 +12,3 @@ Importing this package imports nothing heavy: the transient model, the friction 
 the parameters need numpy and the standard library only (they run inside an FMU).
 """
 
-__version__ = "0.1.0"

@@ -54,7 +54,7 @@ from typing import Literal
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 Axes = Literal["iso-w", "iso-v", "sae", "adapted-sae"]
 

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from lookup.errors import TirefricError
+from tirefric.errors import TirefricError
 
 #: Folder of the C sources.
 SOURCE_DIR = Path(__file__).with_name("csrc")

@@ -32,7 +32,7 @@ import argparse
 
 import numpy as np
 
-from lookup.cli import (
+from tirefric.cli import (
     dump_json,
     parse_float,
     parse_float_list,
@@ -40,7 +40,7 @@ from lookup.cli import (
     parse_temperature_option,
     print_table,
 )
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 from .axes import AXES, BRUSH_AXES, SlipInputs, Wrench, convert_inputs, convert_wrench
 from .rolling_resistance_cli import add_parser as add_rolling_resistance_parser
@@ -201,7 +201,7 @@ def _register_fit_mf(ts: argparse._SubParsersAction) -> None:
 
 
 def _run_fit_mf(args: argparse.Namespace) -> int:
-    from lookup import __version__
+    from tirefric import __version__
 
     from .mf_fit import CHANNELS, FitSettings, fit_mf
     from .params import load_tire

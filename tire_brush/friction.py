@@ -40,7 +40,7 @@ from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 #: Default blending length s0 [m] of :class:`ConstantFriction`: 0.2 D with D = 1 mm
 #: (review sec. 5.1: macroasperity contacts of ~1 mm on road surfaces).

@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 #: Horne's constant [km/h per sqrt(kPa)] (NASA TN D-2056).
 HORNE_KMH_PER_SQRT_KPA = 6.35

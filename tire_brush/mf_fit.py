@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 from . import magic_formula as mf
 from .axes import BRUSH_AXES, Wrench, convert_wrench

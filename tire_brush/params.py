@@ -12,7 +12,7 @@ A tire is read from a TOML file under ``models/tires/`` (:func:`load_tire`, ship
   forces build up over a relaxation length);
 * :class:`ThermalParams` -- the optional lumped tread temperature.
 
-This module imports only the standard library (and the stdlib-only :mod:`lookup.errors`) at
+This module imports only the standard library (and the stdlib-only :mod:`tirefric.errors`) at
 module level: it runs inside an FMU. :func:`load_tire` imports the TOML reader on call.
 """
 
@@ -22,7 +22,7 @@ import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
-from lookup.errors import InputError, InputErrors
+from tirefric.errors import InputError, InputErrors
 
 
 def _check(obj: object, name: str, *, positive: bool = False, nonnegative: bool = False,
@@ -46,7 +46,7 @@ def _param(unit: str | None, dimension: str | None, description: str, *,
            maximum: float | None = None, toml_default: bool | None = None,
            default: float | None = None) -> object:
     """A parameter field carrying, once, what every user of it needs: the FMU unit (``None``
-    for a boolean), the dimension of :data:`lookup.config.UNITS` the TOML value is read in,
+    for a boolean), the dimension of :data:`tirefric.config.UNITS` the TOML value is read in,
     the description (FMU variable table, docs) and the bounds (validation, TOML loader).
     ``default`` is the value when the class is built in code without it (a tire file must
     still give it)."""
@@ -409,17 +409,17 @@ class TireParams:
 
 
 # -- TOML -------------------------------------------------------------------------------------
-# Units of every field come from the one unit table, lookup.config.UNITS.
+# Units of every field come from the one unit table, tirefric.config.UNITS.
 
 
 def load_tire(name_or_path: str | Path) -> TireParams:
     """Read tire parameters from a TOML file or a shipped name (``"passenger"``).
 
-    Errors name the file, the field and the value (:class:`~lookup.errors.InputError`);
+    Errors name the file, the field and the value (:class:`~tirefric.errors.InputError`);
     unknown (misspelt) keys are refused.
     """
-    from lookup.config import Table
-    from lookup.paths import resolve_model_file
+    from tirefric.config import Table
+    from tirefric.paths import resolve_model_file
 
     path = resolve_model_file(name_or_path, "tires")
     t = Table.load(path)

@@ -85,8 +85,8 @@ from pathlib import Path
 import numpy as np
 
 from lookup.compound import Compound
-from lookup.errors import InputError
 from lookup.rolling import EffectiveModulus, _check_profile, _profile_integral, layer_weight
+from tirefric.errors import InputError
 
 from .params import TireParams
 
@@ -210,7 +210,7 @@ def _positive(x: object, name: str) -> float:
 
 @functools.lru_cache(maxsize=16)
 def _load_from_file(path: str) -> RollingResistanceParams:
-    from lookup.config import Table
+    from tirefric.config import Table
 
     t = Table.load(path)
     tab = t.table("rolling_resistance", required=False)

@@ -11,7 +11,7 @@ import argparse
 
 import numpy as np
 
-from lookup.cli import dump_json, parse_float_list, print_table
+from tirefric.cli import dump_json, parse_float_list, print_table
 
 KEYS = ("V_kmh", "Fz_N", "T_C", "rrc_N_per_kN", "F_r_N", "My_Nm", "heat_W", "tread_share")
 
@@ -48,7 +48,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParse
 def main(args: argparse.Namespace) -> int:
     """Run ``tirefric tire rolling-resistance``; returns the exit code."""
     from lookup.compound import load_compound
-    from lookup.errors import InputError
+    from tirefric.errors import InputError
 
     from .params import load_tire
     from .rolling_resistance import iso28580, load_rolling_params, rolling_resistance

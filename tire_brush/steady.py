@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 from . import ccore
 from .element import V_ROLL_MIN, RefTable, steady_point

@@ -23,7 +23,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 #: Coefficient sections: (section, [(key, description)]). Fitted or fixed values come from the
 #: fit; keys it does not set are written as 0 (``PKY4``: 2).

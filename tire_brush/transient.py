@@ -31,7 +31,7 @@ docs/physics.md); a wheel that does not roll while the vehicle moves keeps its e
 patch, they slide and reach the hot branch (a locked wheel). Lift-off (``Fz <= 0``) empties
 the patch: forces are exactly zero and the belt relaxes. Only the reported ``kappa`` and
 ``alpha`` use a speed floor (:mod:`tire_brush.slip`). Non-finite inputs are refused
-(:class:`~lookup.errors.InputError`) and leave the state unchanged.
+(:class:`~tirefric.errors.InputError`) and leave the state unchanged.
 
 The stepping runs in the compiled core (:mod:`tire_brush.ccore`, C99); ``backend =
 "reference"`` runs the same algorithm in Python floats (:class:`tire_brush.element.RefTire`),
@@ -40,7 +40,7 @@ bit for bit equal and ~300x slower. The full state is available for co-simulatio
 restores them bit for bit; stepping is deterministic.
 
 This module imports only numpy and the standard library (and the stdlib-only
-:mod:`lookup.errors`): it runs inside an FMU.
+:mod:`tirefric.errors`): it runs inside an FMU.
 """
 
 from __future__ import annotations
@@ -51,7 +51,7 @@ from typing import Any
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 from . import ccore
 from .element import N_ELEM, STATE_HEAD, STATE_VERSION, RefTable, RefTire, RefWet

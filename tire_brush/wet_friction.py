@@ -42,7 +42,7 @@ from typing import Any
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 from .friction import BranchTable, GridFriction
 from .hydroplaning import lifted_share

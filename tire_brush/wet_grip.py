@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 G_ACCEL = 9.80665  # standard gravity [m/s^2]
 REFERENCE_INDEX = 1.25

@@ -62,10 +62,10 @@ from typing import Any, Literal
 
 import numpy as np
 
-from lookup.errors import ConvergenceError, InputError, TirefricError
 from tire_brush.braking.abs_control import BrakeController
 from tire_brush.braking.quarter_car import QuarterCar
 from tire_brush.braking.quarter_car import rhs as quarter_car_rhs
+from tirefric.errors import ConvergenceError, InputError, TirefricError
 
 #: FMU inputs in the order they are set.
 INPUT_NAMES = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale")
@@ -707,9 +707,9 @@ def demo_manoeuvre(fmu: str | Path, out_dir: str | Path, *, v0: float = 100.0 / 
     """
     import time
 
-    from lookup.paths import models_dir
     from tire_brush.braking.abs_control import ABSParams, LockedWheel, RuleBasedABS
     from tire_brush.braking.quarter_car import load_quarter_car
+    from tirefric.paths import models_dir
 
     settings = settings or CosimSettings()      # the FMU's own (converged) defaults
     car = load_quarter_car(models_dir() / "studies" / "vehicles" / "passenger.toml")

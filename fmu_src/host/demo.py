@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from lookup.errors import GridError, TirefricError
+from tirefric.errors import GridError, TirefricError
 
 DEMO_T_C = (0.0, 20.0, 50.0, 80.0)
 CURVE_T_C = (20.0, 50.0)
@@ -53,7 +53,7 @@ def _grid(out: Path, rebuild: bool, log: DemoLog):
     from lookup.grid import load_grid
     from lookup.grid.build import build_grid
     from lookup.grid.spec import load_spec
-    from lookup.paths import models_dir
+    from tirefric.paths import models_dir
 
     if not rebuild:
         try:
@@ -168,8 +168,8 @@ def _fmu(grid_path: Path, out: Path, log: DemoLog) -> Path:
 
 
 def _study(out: Path, log: DemoLog) -> list[Path]:
-    from lookup.paths import models_dir
     from tire_brush.braking.study import load_study, run_study, write_results
+    from tirefric.paths import models_dir
 
     spec = load_study(models_dir() / "studies" / "abs_default.toml")
     from .cosim import braking_simulator

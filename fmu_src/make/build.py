@@ -50,11 +50,11 @@ from fmu_src.runtime.interface import (
 )
 from fmu_src.runtime.slave import BUILD_FILE, CORE_DIR, DATA_DIR, ROLLING_FILE, WET_FILE
 from fmu_src.runtime.table_file import table_bytes, wet_bytes
-from lookup import __version__
-from lookup.errors import InputError, TirefricError
 from tire_brush.params import TireParams, load_tire
 from tire_brush.slip import V_FLOOR
 from tire_brush.transient import DT_INTERNAL, N_TRANSIENT
+from tirefric import __version__
+from tirefric.errors import InputError, TirefricError
 
 from .model_description import postprocess
 from .package import RuntimePackage, build_runtime
@@ -359,9 +359,9 @@ def _wet_resource(grid: Any) -> tuple[bytes, dict[str, Any]]:
     water depth is then a dry road, input_status bit 512) and its entry in build.json."""
     import numpy as np
 
-    from lookup.errors import GridError
     from lookup.grid.wet import load_wet
     from tire_brush.hydroplaning import D_FULL
+    from tirefric.errors import GridError
 
     src = Path(str(getattr(grid, "source", "")))
     if src.suffix != ".nc" or not src.is_file():

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from lookup.cli import dump_json, parse_float, parse_quantity_option
+from tirefric.cli import dump_json, parse_float, parse_quantity_option
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -38,7 +38,7 @@ from fmu_src.runtime.interface import (
     UNITS,
     Variable,
 )
-from lookup.errors import TirefricError
+from tirefric.errors import TirefricError
 
 #: FMI 2.0 base units in schema order.
 _BASE_UNITS = ("kg", "m", "s", "A", "K", "mol", "cd", "rad")

@@ -353,7 +353,7 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
     BuildError
         No compiler for a required platform, a compile failed, or validation failed.
     """
-    from lookup.errors import InputError
+    from tirefric.errors import InputError
 
     t0 = time.perf_counter()
     output = Path(output)

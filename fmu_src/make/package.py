@@ -4,13 +4,13 @@ Inside an FMU the slave runs in the host's Python interpreter, next to whatever 
 interpreter has loaded: other pythonfmu FMUs, or tirefric itself. So the FMU carries its own
 copy of exactly the modules the slave needs, under a package name no one else uses:
 
-* **closure** -- starting from the slave (:mod:`fmu_src.runtime.slave`), follow every module-level
-  import of a tirefric package (``lookup``, ``tire_brush``, ``fmu_src``) and collect the
-  modules and the ``__init__`` of every package on the way;
+* **closure** -- starting from the slave (:mod:`fmu_src.runtime.slave`), follow every
+  module-level import of a tirefric package (``tirefric``, ``lookup``, ``tire_brush``,
+  ``fmu_src``) and collect the modules and the ``__init__`` of every package on the way;
 * **renaming** -- copy them below ``tirefric_fmu_runtime_<code hash>`` (the hash of the copied
   sources: two FMUs built from different tirefric versions can run in one process) and point
-  absolute imports of tirefric packages there (``from lookup.errors import X`` ->
-  ``from tirefric_fmu_runtime_<h>.lookup.errors import X``); relative imports stay as they are;
+  absolute imports of tirefric packages there (``from tirefric.errors import X`` ->
+  ``from tirefric_fmu_runtime_<h>.tirefric.errors import X``); relative imports stay as they are;
 * **checks** -- every module-level import of the copy must be the standard library, numpy,
   pythonfmu (the slave only) or the copy itself. A module that imports scipy, xarray, casadi,
   matplotlib (or anything else) at module level stops the build with a message naming the module and
@@ -30,10 +30,10 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from lookup.errors import TirefricError
+from tirefric.errors import TirefricError
 
 #: Top-level tirefric packages whose modules may be copied into an FMU.
-PROJECT_PACKAGES = ("lookup", "tire_brush", "fmu_src")
+PROJECT_PACKAGES = ("tirefric", "lookup", "tire_brush", "fmu_src")
 #: Third-party packages allowed at module level inside the FMU (pythonfmu: the slave only).
 ALLOWED_THIRD_PARTY = ("numpy",)
 #: The slave module.

@@ -2,7 +2,7 @@
 
 A vehicle simulator can send anything: NaN after a solver blow-up, a negative load when the
 wheel leaves the ground, a spin of 1e9 rad/s. The transient model refuses non-finite inputs
-(:class:`lookup.errors.InputError`); inside an FMU that would end the simulation with a fatal
+(:class:`tirefric.errors.InputError`); inside an FMU that would end the simulation with a fatal
 error. :class:`InputGuard` sits between the FMI inputs and the model and makes every step
 well defined:
 

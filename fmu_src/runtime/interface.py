@@ -302,7 +302,7 @@ def tire_from_parameters(name: str, parameters: dict[str, Any], *, description: 
 
     Raises
     ------
-    lookup.errors.InputError
+    tirefric.errors.InputError
         A parameter is missing or out of range (the message names the field).
     """
     groups: dict[str, dict[str, Any]] = {g: {} for g in _GROUPS}

@@ -13,7 +13,7 @@ its little-endian float64 bytes, named in the header by offset, length and shape
 :func:`from_bytes` checks the magic, the checksum and every size before it builds anything, and
 never unpickles (a state blob from a master is data, not code).
 
-This module imports only numpy, the standard library and :mod:`lookup.errors` (standard library
+This module imports only numpy, the standard library and :mod:`tirefric.errors` (standard library
 only): it runs inside the FMU (``docs/design.md``, "Runtime constraints").
 """
 
@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from lookup.errors import TirefricError
+from tirefric.errors import TirefricError
 
 MAGIC = b"TIREFRIC-FMU-STATE\x00"
 #: Version of the byte layout.

@@ -39,7 +39,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from ..errors import GridError, InputError
+from tirefric.errors import GridError, InputError
+
 from .reader import VARIABLES, FrictionGrid, _json_default, round_to_float32
 from .spec import GridSpec, load_spec
 from .store import package_version, save_grid, utc_now

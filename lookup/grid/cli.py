@@ -13,8 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..cli import (
-    MU_KEYS,
+from tirefric.cli import (
     dump_json,
     parse_float,
     parse_float_list,
@@ -22,7 +21,9 @@ from ..cli import (
     parse_temperature_option,
     print_table,
 )
-from ..errors import InputError
+from tirefric.errors import InputError
+
+from ..cli import MU_KEYS
 from .reader import P_INTERPOLATIONS, T_INTERPOLATIONS, V_INTERPOLATIONS
 
 KELVIN = 273.15

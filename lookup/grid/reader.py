@@ -36,10 +36,10 @@ Out-of-range policy (explicit, never NaN)
   (``"below"`` / ``"above"``; ``log10_v`` ``"below"`` stays 0 by the rule above);
   :attr:`FrictionGrid.out_of_range_count` gives the total per axis. A non-zero count means the
   grid does not cover the use.
-* A NaN query coordinate is an error (:class:`~lookup.errors.GridError`), not a NaN result.
+* A NaN query coordinate is an error (:class:`~tirefric.errors.GridError`), not a NaN result.
 
 This module runs inside an FMU: it imports only numpy and the standard library (and the
-stdlib-only :mod:`lookup.errors`).
+stdlib-only :mod:`tirefric.errors`).
 """
 
 from __future__ import annotations
@@ -55,7 +55,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GridError
+from tirefric.errors import GridError
 
 #: Axis names in storage order, with units.
 AXES: tuple[str, str, str] = ("log10_v", "T", "log10_p")

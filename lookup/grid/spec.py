@@ -38,9 +38,9 @@ from typing import Any
 
 import numpy as np
 
-from ..config import Table
-from ..errors import InputError
-from ..paths import resolve_model_file
+from tirefric.config import Table
+from tirefric.errors import InputError
+from tirefric.paths import resolve_model_file
 
 #: Axis table name -> (dimension for unit conversion, spacing, lower bound on n).
 AXIS_SPECS: dict[str, tuple[str, str, int]] = {

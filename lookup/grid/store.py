@@ -20,7 +20,7 @@ File layout (readable without tirefric: ``xarray.open_dataset(path)``, MATLAB
   all metadata together as ``meta_json`` (what :func:`load_grid` restores).
 
 :func:`load_grid` validates everything (format, dimensions, units, shapes, finite values,
-strictly ascending axes, hash) and raises :class:`~lookup.errors.GridError` naming the file
+strictly ascending axes, hash) and raises :class:`~tirefric.errors.GridError` naming the file
 and the problem. ``"default"`` and other names of files in ``models/grids/`` resolve to the
 shipped grids.
 """
@@ -36,8 +36,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GridError, InputError
-from ..paths import models_dir
+from tirefric.errors import GridError, InputError
+from tirefric.paths import models_dir
+
 from .reader import (
     AXES,
     AXIS_LONG_NAMES,

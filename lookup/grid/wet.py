@@ -52,7 +52,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GridError, InputError
+from tirefric.errors import GridError, InputError
 
 WET_AXES: tuple[str, str] = ("water_depth", "log10_t_drain")
 WET_AXIS_UNITS = {"water_depth": "m", "log10_t_drain": "log10(s)"}

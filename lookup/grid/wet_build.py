@@ -25,7 +25,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GridError
+from tirefric.errors import GridError
+
 from .wet import PendingWetGrid, WetGrid
 
 _MODEL: Any = None

@@ -48,8 +48,9 @@ from typing import Any
 
 import numpy as np
 
+from tirefric.errors import InputError
+
 from ..contact import Phi, contact_fraction
-from ..errors import InputError
 from ..friction import PerssonFriction
 from .sealing import SealedSpectrum, SealingSettings
 from .squeeze import S_NODES, dry_share, mean_separation

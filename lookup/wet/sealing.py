@@ -72,7 +72,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from tirefric.errors import InputError
+
 from ..roughness import PowerSpectrum
 from ..topography import height_map_from_psd
 

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from tirefric.errors import InputError
 
 #: Constants of the Vogel-type water viscosity correlation (module docstring).
 VOGEL_A_PA_S = 2.414e-5

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 
-from ..errors import InputError
+from tirefric.errors import InputError
 
 
 def forced_wetting_speed(S: float, eta: float, E: float, R: float) -> float:

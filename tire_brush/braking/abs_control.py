@@ -59,7 +59,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 #: Phase names of the rule-based ABS, indexed by the phase code stored in the trajectories.
 PHASES = ("apply", "hold", "release", "hold_recover", "boost", "reapply")

@@ -77,7 +77,7 @@ def register(sub: argparse._SubParsersAction, simulator_factory=None) -> None:
 def _run_roads(args: argparse.Namespace) -> int:
     import dataclasses
 
-    from lookup.cli import dump_json
+    from tirefric.cli import dump_json
 
     from .roads import load_roads_spec, print_roads, run_roads, write_roads
 
@@ -98,7 +98,7 @@ def _run_roads(args: argparse.Namespace) -> int:
 def _run_wet_grip(args: argparse.Namespace) -> int:
     import dataclasses
 
-    from lookup.cli import dump_json
+    from tirefric.cli import dump_json
 
     from .wet_grip_test import load_wet_grip_spec, plot_wet_grip, run_wet_grip
 
@@ -131,7 +131,7 @@ def _run_wet_grip(args: argparse.Namespace) -> int:
 
 
 def _run_study(args: argparse.Namespace) -> int:
-    from lookup.cli import dump_json, print_table
+    from tirefric.cli import dump_json, print_table
 
     from .study import CaseFailure, load_study, run_study, write_results
 

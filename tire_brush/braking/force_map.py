@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 #: A friction source: ``fx_over_fz(kappa, vx, Fz, T_K) -> Fx/Fz`` with numpy broadcasting.
 FxOverFz = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray], np.ndarray]

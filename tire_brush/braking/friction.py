@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 from .force_map import FxOverFz
 from .reference import (

@@ -47,7 +47,7 @@ from typing import Any
 
 import numpy as np
 
-from lookup.errors import ConvergenceError, InputError
+from tirefric.errors import ConvergenceError, InputError
 
 from .force_map import ForceMap
 from .quarter_car import QuarterCar, rhs, slip

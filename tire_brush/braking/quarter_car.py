@@ -33,8 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
-from lookup.config import Table
-from lookup.errors import InputError
+from tirefric.config import Table
+from tirefric.errors import InputError
 
 from .reference import G_STANDARD
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 #: Standard gravity [m/s^2].
 G_STANDARD = 9.80665

@@ -16,7 +16,7 @@ import itertools
 import math
 from dataclasses import dataclass
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 
 @dataclass(frozen=True)

@@ -33,9 +33,9 @@ from typing import Any
 
 import numpy as np
 
-from lookup.config import Table
-from lookup.errors import InputError, InputErrors
-from lookup.paths import resolve_model_file
+from tirefric.config import Table
+from tirefric.errors import InputError, InputErrors
+from tirefric.paths import resolve_model_file
 
 from .abs_control import ABSParams, LockedWheel, RuleBasedABS
 from .force_map import ForceMap, default_axes
@@ -109,7 +109,7 @@ def _profile(t: Table, key: str) -> MuProfile:
 def load_roads_spec(path: str | Path) -> RoadsSpec:
     """Read and validate a roads spec (file or shipped name under ``models/studies``).
 
-    All problems found are reported together (:class:`~lookup.errors.InputErrors`), each
+    All problems found are reported together (:class:`~tirefric.errors.InputErrors`), each
     naming the file, the field and the value.
     """
     path = resolve_model_file(path, "studies")

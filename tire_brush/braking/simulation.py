@@ -53,7 +53,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lookup.errors import ConvergenceError, InputError
+from tirefric.errors import ConvergenceError, InputError
 
 from .abs_control import BrakeController
 from .force_map import FxOverFz

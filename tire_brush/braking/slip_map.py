@@ -16,11 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 from .force_map import FxOverFz
 
-#: CSV header of a slip map (units in brackets, as ``lookup.config.read_csv_table`` reads them).
+#: CSV header of a slip map (units in brackets, as ``tirefric.config.read_csv_table`` reads them).
 CSV_COLUMNS = ("vx [m/s]", "Fz [N]", "T [K]", "kappa_opt [1]", "mu_max [1]", "mu_locked [1]",
                "kappa_peak_stable [1]", "kappa_peak_unstable [1]", "peak_width [1]")
 #: Fraction of the peak friction that bounds the peak's width (:attr:`SlipMap.peak_width`).

@@ -47,9 +47,9 @@ from typing import Any
 
 import numpy as np
 
-from lookup.config import Table
-from lookup.errors import InputError, InputErrors
-from lookup.paths import resolve_model_file
+from tirefric.config import Table
+from tirefric.errors import InputError, InputErrors
+from tirefric.paths import resolve_model_file
 
 from .abs_control import (
     HOLD_RECOVER,
@@ -163,7 +163,7 @@ class StudySpec:
 
 class ErrorCollector:
     """Calls a spec's readers and keeps their errors, so that a spec file's problems are
-    reported together (:class:`~lookup.errors.InputErrors`).
+    reported together (:class:`~tirefric.errors.InputErrors`).
 
     ``collect(fn, *args, rename=None, **kw)`` returns ``fn(*args, **kw)``, or None after
     adding its error(s) to :attr:`errors`; an error without a file (a dataclass validator's)
@@ -194,7 +194,7 @@ class ErrorCollector:
 def load_study(path: str | Path) -> StudySpec:
     """Read and validate a study spec (file or shipped name under ``models/studies``).
 
-    All problems found are reported together (:class:`~lookup.errors.InputErrors`).
+    All problems found are reported together (:class:`~tirefric.errors.InputErrors`).
     """
     path = resolve_model_file(path, "studies")
     root = Table.load(path)
@@ -568,7 +568,7 @@ def solve_ocp_from_starts(spec: StudySpec, case: Case, fmap: ForceMap, locked: S
     Returns the best result, its start and per start the distance or the failure.
     """
 
-    from lookup.errors import ConvergenceError
+    from tirefric.errors import ConvergenceError
 
     results: dict[str, OCPResult] = {}
     tried: dict[str, Any] = {}

@@ -54,7 +54,7 @@ from typing import Any
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 from .force_map import ForceMap
 from .quarter_car import QuarterCar, tread_temperature_rise_bound

@@ -59,7 +59,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from lookup.errors import ConvergenceError, InputError
+from tirefric.errors import ConvergenceError, InputError
 
 from .abs_control import BrakeController
 from .quarter_car import rolling_resistance_moment

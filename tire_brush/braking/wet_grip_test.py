@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from lookup.errors import InputError
+from tirefric.errors import InputError
 
 from .abs_control import ABSParams, RuleBasedABS
 from .force_map import ForceMap, default_axes
@@ -84,8 +84,8 @@ class WetGripSpec:
 
 def load_wet_grip_spec(name_or_path: str | Path = "wet_grip") -> WetGripSpec:
     """Read the test spec (a TOML file or a shipped study name); errors name the field."""
-    from lookup.config import Table
-    from lookup.paths import resolve_model_file
+    from tirefric.config import Table
+    from tirefric.paths import resolve_model_file
 
     path = resolve_model_file(name_or_path, "studies")
     root = Table.load(path)

@@ -1,0 +1,93 @@
+"""The one unit vocabulary of tirefric: unit strings, their dimensions and SI conversions.
+
+Data files, command-line options and the FMU's variables write quantities in the units of
+this table (``"6 MPa"``, ``"20 degC"``, ``"N s/m^3"``); :func:`to_si` converts them to SI, the
+only units inside the code (docs/design.md, "Units"). An unknown unit is an error, and a unit
+that could mean two things (``1/s``) is refused with the reason.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+#: Unit conversions to SI, by dimension: unit -> (factor, offset); SI = value * factor + offset.
+UNITS: dict[str, dict[str, tuple[float, float]]] = {
+    "pressure": {"Pa": (1.0, 0.0), "kPa": (1e3, 0.0), "MPa": (1e6, 0.0), "GPa": (1e9, 0.0)},
+    "length": {
+        "m": (1.0, 0.0), "cm": (1e-2, 0.0), "mm": (1e-3, 0.0), "um": (1e-6, 0.0),
+        "nm": (1e-9, 0.0),
+    },
+    "wavenumber": {"1/m": (1.0, 0.0), "1/mm": (1e3, 0.0), "1/um": (1e6, 0.0)},
+    # "1/s" is refused as ambiguous (rad/s or cycles/s?): see AMBIGUOUS_UNITS
+    "angular_frequency": {"rad/s": (1.0, 0.0), "Hz": (2.0 * math.pi, 0.0)},
+    "time": {"s": (1.0, 0.0), "ms": (1e-3, 0.0), "us": (1e-6, 0.0)},
+    "temperature": {"K": (1.0, 0.0), "degC": (1.0, 273.15), "C": (1.0, 273.15)},
+    "temperature_difference": {"K": (1.0, 0.0), "degC": (1.0, 0.0), "C": (1.0, 0.0)},
+    "velocity": {
+        "m/s": (1.0, 0.0), "cm/s": (1e-2, 0.0), "mm/s": (1e-3, 0.0), "um/s": (1e-6, 0.0),
+        "km/h": (1.0 / 3.6, 0.0),
+    },
+    "psd": {"m^4": (1.0, 0.0)},
+    "psd_1d": {"m^3": (1.0, 0.0)},
+    "conductivity": {"W/(m K)": (1.0, 0.0), "W/m/K": (1.0, 0.0)},
+    "heat_capacity": {"J/(kg K)": (1.0, 0.0), "J/kg/K": (1.0, 0.0)},
+    "density": {"kg/m^3": (1.0, 0.0), "g/cm^3": (1e3, 0.0)},
+    "diffusivity": {"m^2/s": (1.0, 0.0)},
+    "energy": {"J": (1.0, 0.0), "eV": (1.602176634e-19, 0.0)},
+    "force": {"N": (1.0, 0.0), "kN": (1e3, 0.0)},
+    "stiffness_per_area": {"N/m^3": (1.0, 0.0), "N/mm^3": (1e9, 0.0)},
+    "stiffness": {"N/m": (1.0, 0.0), "N/mm": (1e3, 0.0)},
+    "rotational_stiffness": {"N m/rad": (1.0, 0.0), "N m/deg": (180.0 / math.pi, 0.0)},
+    "rotational_damping": {"N m s/rad": (1.0, 0.0)},
+    # tire parameters (tire_brush/params.py)
+    "mass_per_area": {"kg/m^2": (1.0, 0.0), "": (1.0, 0.0)},
+    "damping_per_area": {"N s/m^3": (1.0, 0.0), "Pa s/m": (1.0, 0.0), "": (1.0, 0.0)},
+    "damping": {"N s/m": (1.0, 0.0), "kN s/m": (1e3, 0.0), "": (1.0, 0.0)},
+    "heat_capacity_total": {"J/K": (1.0, 0.0), "kJ/K": (1e3, 0.0), "": (1.0, 0.0)},
+    "conductance": {"W/K": (1.0, 0.0), "": (1.0, 0.0)},
+    "mass": {"kg": (1.0, 0.0)},
+    "inertia": {"kg m^2": (1.0, 0.0)},
+    "angle": {"rad": (1.0, 0.0), "deg": (math.pi / 180.0, 0.0)},
+    "dimensionless": {"1": (1.0, 0.0), "": (1.0, 0.0)},
+}
+
+
+#: Units refused for a dimension because they are ambiguous, with the explanation.
+AMBIGUOUS_UNITS: dict[str, dict[str, str]] = {
+    "angular_frequency": {
+        "1/s": "ambiguous frequency unit '1/s': write 'rad/s' for an angular frequency "
+               "omega or 'Hz' for a cyclic frequency f (omega = 2 pi f)",
+        "s^-1": "ambiguous frequency unit 's^-1': write 'rad/s' for an angular frequency "
+                "omega or 'Hz' for a cyclic frequency f (omega = 2 pi f)",
+    },
+}
+
+def to_si(value: float, unit: str, dimension: str) -> float:
+    """Convert ``value`` given in ``unit`` to SI for ``dimension``; KeyError if unknown."""
+    factor, offset = UNITS[dimension][unit]
+    return value * factor + offset
+
+
+def parse_quantity(value: Any, dimension: str, err) -> float:
+    """Turn a TOML value (number, or ``"<number> <unit>"``) into a float in SI units."""
+    if isinstance(value, bool):
+        raise err("expected a number")
+    if isinstance(value, int | float):
+        return float(value)
+    if isinstance(value, str):
+        text = value.strip()
+        parts = text.split(None, 1)
+        try:
+            number = float(parts[0])
+        except (ValueError, IndexError):
+            raise err("expected a number or '<number> <unit>'") from None
+        unit = parts[1].strip() if len(parts) > 1 else ""
+        known = UNITS.get(dimension, {})
+        if unit in AMBIGUOUS_UNITS.get(dimension, {}):
+            raise err(AMBIGUOUS_UNITS[dimension][unit])
+        if unit not in known:
+            raise err(f"unknown unit '{unit}' for a {dimension.replace('_', ' ')} "
+                      f"(known: {', '.join(u for u in known if u)})")
+        return to_si(number, unit, dimension)
+    raise err("expected a number or '<number> <unit>'")
