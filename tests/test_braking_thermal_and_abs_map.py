@@ -224,7 +224,7 @@ def test_tread_heating_along_a_stop_closed_forms():
     mu = np.full(n, -0.9)
     stop = OCPResult(t=t, x=np.zeros(n), v=v, omega=omega, brake_torque=np.zeros(n),
                      kappa=kappa, mu=mu, T_tread=np.full(n, 273.15), torque_rate=np.zeros(n - 1),
-                     stopping_distance=0.0, final_time=3.0, solve_time_s=0.0, setup_time_s=0.0,
+                     stopping_distance=0.0, stop_time=3.0, solve_time_s=0.0, setup_time_s=0.0,
                      iterations=0, status="")
     base = QuarterCar(mass=Fz / 9.80665, wheel_inertia=1.2, radius=R, brake_torque_max=3000.0,
                       brake_torque_rate_max=2e4,

@@ -56,17 +56,17 @@ from tire_brush.params import (
 )
 from tire_brush.transient import TOL
 
-from .build import (
+from .model_description import postprocess
+from .stage import (
     BuildError,
     BuildOptions,
     BuildReport,
-    _json_bytes,
-    _load_inputs,
     guid_of,
+    json_bytes,
+    load_inputs,
     stage_resources,
     write_fmu,
 )
-from .model_description import postprocess
 
 #: FMI model identifier (name of the binary) of the native flavour.
 MODEL_IDENTIFIER = "BrushTireNative"
@@ -359,7 +359,7 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
     output = Path(output)
     if output.suffix != ".fmu":
         raise InputError("the FMU file name must end in .fmu", source="-o", value=str(output))
-    tire_p, grid_o, grid_source = _load_inputs(tire, grid)
+    tire_p, grid_o, grid_source = load_inputs(tire, grid)
     options = options or BuildOptions()
     found = compilers()
     wanted = tuple(found) if platforms is None else tuple(platforms)
@@ -415,7 +415,7 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
             build["wet"]["file"] = None
             build["wet"]["table"] = WET_TABLE_FILE
             entries[f"resources/{WET_TABLE_FILE}"] = wet
-        entries[f"resources/{DATA_DIR}/{BUILD_FILE}"] = _json_bytes(build)
+        entries[f"resources/{DATA_DIR}/{BUILD_FILE}"] = json_bytes(build)
         entries |= {f"sources/{n}": b for n, b in sources.items()}
         entries["documentation/host_example.c"] = (NATIVE_DIR / "host_example.c").read_bytes()
         entries |= {f"binaries/{p}/{path.name}": path.read_bytes() for p, path in bins.items()}

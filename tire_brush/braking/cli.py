@@ -133,7 +133,8 @@ def _run_wet_grip(args: argparse.Namespace) -> int:
 def _run_study(args: argparse.Namespace) -> int:
     from tirefric.cli import dump_json, print_table
 
-    from .study import CaseFailure, load_study, run_study, write_results
+    from .results import CaseFailure
+    from .study import load_study, run_study, write_results
 
     spec = load_study(args.spec)
     progress = None if args.json else (lambda msg: print(f"# {msg}", file=sys.stderr))

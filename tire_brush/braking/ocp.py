@@ -52,6 +52,7 @@ from tirefric.errors import ConvergenceError, InputError
 from .force_map import ForceMap
 from .quarter_car import QuarterCar, rhs, slip
 from .reference import point_mass_stopping_distance
+from .results import Trajectory
 from .slip_map import optimal_slip
 
 
@@ -128,21 +129,18 @@ class OCPSettings:
             raise InputError("must be >= 0", field="ocp.rate_penalty", value=self.rate_penalty)
 
 
-@dataclass(frozen=True)
-class OCPResult:
-    """Optimal braking trajectory at the interval boundaries (N + 1 points).
+@dataclass(frozen=True, kw_only=True)
+class OCPResult(Trajectory):
+    """Optimal braking trajectory at the interval boundaries (N + 1 points): the time
+    histories of :class:`.results.Trajectory` (``stop_time`` is the free final time
+    ``t_f``) and the solver's report.
 
     Attributes
     ----------
-    t, x, v, omega, brake_torque, kappa, mu, T_tread : numpy.ndarray
-        Time [s], distance [m], speed [m/s], wheel spin [rad/s], brake torque [N m],
-        slip [1], force ratio Fx/Fz [1], tread temperature [K].
+    T_tread : numpy.ndarray
+        Tread temperature [K].
     torque_rate : numpy.ndarray
         Brake torque rate per interval [N m/s] (N values).
-    stopping_distance : float
-        ``x(t_f)`` [m], distance from v0 to v_stop.
-    final_time : float
-        ``t_f`` [s].
     solve_time_s : float
         Wall time of IPOPT [s] (the problem set-up excluded, see ``setup_time_s``).
     setup_time_s : float
@@ -159,17 +157,8 @@ class OCPResult:
         Whether the solution touches it (then the optimum may lie beyond: widen the bound).
     """
 
-    t: np.ndarray
-    x: np.ndarray
-    v: np.ndarray
-    omega: np.ndarray
-    brake_torque: np.ndarray
-    kappa: np.ndarray
-    mu: np.ndarray
     T_tread: np.ndarray
     torque_rate: np.ndarray
-    stopping_distance: float
-    final_time: float
     solve_time_s: float
     setup_time_s: float
     iterations: int
@@ -509,7 +498,7 @@ def solve_braking_ocp(
         start = tr.pack(guess(tg), guess(tcg), ramp, tf_guess)
     else:
         g = initial_guess
-        tf_sim = float(getattr(g, "stop_time", None) or g.final_time)
+        tf_sim = float(g.stop_time)
         if not 0.2 * tf_guess < tf_sim < 5.0 * tf_guess:
             raise InputError("the initial guess' stop time is outside the OCP's bounds on t_f",
                              field="initial_guess", value=tf_sim)
@@ -581,7 +570,7 @@ def solve_braking_ocp(
     return OCPResult(
         t=t, x=Xv[0], v=Xv[1], omega=Xv[2], brake_torque=Xv[3], kappa=kappa, mu=mu,
         T_tread=T_tread, torque_rate=Ws * u_max,
-        stopping_distance=float(Xv[0, -1]), final_time=tf_v, solve_time_s=solve_time,
+        stopping_distance=float(Xv[0, -1]), stop_time=tf_v, solve_time_s=solve_time,
         setup_time_s=setup, iterations=int(stats.get("iter_count", -1)),
         status=str(stats.get("return_status", "")),
         kappa_bound=kappa_lo, kappa_bound_active=bool(kappa.min() < kappa_lo + 1e-4),

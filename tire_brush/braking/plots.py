@@ -3,13 +3,11 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.figure import Figure
 
-if TYPE_CHECKING:
-    from .study import CaseResult
+from .results import CaseResult
 
 STYLE = {"ocp": ("OCP (optimal)", "C0"), "abs": ("rule-based ABS", "C1"),
          "locked": ("locked wheel", "C3"), "abs_fmu": ("rule-based ABS through the FMU", "C2"),

@@ -58,6 +58,7 @@ from tirefric.errors import ConvergenceError, InputError
 from .abs_control import BrakeController
 from .force_map import FxOverFz
 from .quarter_car import QuarterCar
+from .results import Trajectory
 
 GAMMA_ROS2 = 1.0 + 1.0 / math.sqrt(2.0)
 
@@ -99,38 +100,25 @@ class SimSettings:
                              value=self.record_every)
 
 
-@dataclass(frozen=True)
-class SimResult:
-    """Trajectory of a simulated stop (recorded steps; the last point is at ``v_stop``).
+@dataclass(frozen=True, kw_only=True)
+class SimResult(Trajectory):
+    """A simulated stop: the time histories of :class:`.results.Trajectory` at the recorded
+    steps (the last point is at ``v_stop``) and the step control's report.
 
     Attributes
     ----------
-    t, x, v, omega, brake_torque, kappa, mu, T_tread : numpy.ndarray
-        Time [s], distance [m], speed [m/s], wheel spin [rad/s], brake torque [N m], slip [1],
-        force ratio Fx/Fz [1], tread temperature [K].
+    T_tread : numpy.ndarray
+        Tread temperature [K].
     phase : numpy.ndarray
         Controller phase code per point (:data:`.abs_control.PHASES`).
-    stopping_distance : float
-        Distance from v0 to v_stop [m].
-    stop_time : float
-        Time to reach v_stop [s].
     dt : float
         Largest step used [s] (steps are shorter where the step control shortened them).
     n_rejected : int
         Steps rejected by the step control (retried shorter).
     """
 
-    t: np.ndarray
-    x: np.ndarray
-    v: np.ndarray
-    omega: np.ndarray
-    brake_torque: np.ndarray
-    kappa: np.ndarray
-    mu: np.ndarray
     T_tread: np.ndarray
     phase: np.ndarray
-    stopping_distance: float
-    stop_time: float
     dt: float
     n_rejected: int = 0
 

@@ -75,6 +75,7 @@ from .quarter_car import (
     ramp_limited_stopping_distance,
     tread_temperature_rise_bound,
 )
+from .results import CaseFailure, CaseResult
 from .simulation import SimResult, SimSettings, simulate_braking
 from .slip_map import SlipMap, optimal_slip
 from .thermal_dp import describe as describe_thermal_bound
@@ -375,34 +376,6 @@ def _string_list(t: Table, key: str, required: bool) -> list[str]:
 
 
 # -- one case ------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class CaseResult:
-    """Everything a case produced (numbers for the table, trajectories for the plots)."""
-
-    case: Case
-    summary: dict[str, Any]
-    ocp: OCPResult
-    abs_sim: SimResult
-    locked: SimResult
-    slip_map: SlipMap
-    force_map: ForceMap
-    provenance: dict[str, Any]
-    abs_fmu: Any = None
-    abs_realistic: Any = None
-    #: the global optimum of the stop with a quasi-steady wheel (:mod:`.thermal_dp`): ``t``,
-    #: ``x``, ``v``, ``T_tread``, ``kappa``, ``mu`` along it
-    slip_dp: dict[str, Any] | None = None
-
-
-@dataclass
-class CaseFailure:
-    """A case that failed: its error, reported while the study goes on (the other cases'
-    results are still written; ``results.json`` lists the failures under ``failed``)."""
-
-    case: Case
-    error: str
-
-
 #: Relative slack of the optimality checks (:func:`ocp_optimality`): the OCP's transcription
 #: error at 200 intervals and the simulations' step error are below it.
 OPTIMALITY_SLACK = 2e-3
@@ -731,7 +704,7 @@ def run_case(spec: StudySpec, case: Case, fmu_simulator: Any = None) -> CaseResu
         "mu_max": float(sm0.mu_max.ravel()[0]),
         "mu_locked": float(sm0.mu_locked.ravel()[0]),
         "ocp_mean_slip": _mean_slip(ocp),
-        "stop_time_ocp": ocp.final_time, "stop_time_abs": abs_sim.stop_time,
+        "stop_time_ocp": ocp.stop_time, "stop_time_abs": abs_sim.stop_time,
         "stop_time_locked": locked.stop_time,
         "ocp_solve_time_s": ocp.solve_time_s, "ocp_iterations": ocp.iterations,
         "map_build_time_s": fmap.build_time_s,

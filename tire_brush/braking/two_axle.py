@@ -64,6 +64,7 @@ from tirefric.errors import ConvergenceError, InputError
 from .abs_control import BrakeController
 from .quarter_car import rolling_resistance_moment
 from .reference import G_STANDARD
+from .results import Trajectory
 
 FxOverFz = Callable[[float, float, float, float], float]
 
@@ -153,21 +154,21 @@ class TwoAxleCar:
         return (R2m * (lr + mu * self.cg_height) / (2 * self.wheelbase) + J) / (R2m / 2 + 2 * J)
 
 
-@dataclass
-class TwoAxleResult:
-    """Time histories of a two-axle stop (arrays; index 0 front, 1 rear where two)."""
+@dataclass(frozen=True, kw_only=True)
+class TwoAxleResult(Trajectory):
+    """A two-axle stop: the time histories of :class:`.results.Trajectory` with one column
+    per axle (0 front, 1 rear) for the wheel's quantities, and:
 
-    t: np.ndarray
-    x: np.ndarray
-    v: np.ndarray
-    omega: np.ndarray
-    brake_torque: np.ndarray
-    kappa: np.ndarray
-    mu: np.ndarray
+    Attributes
+    ----------
+    Fz : numpy.ndarray
+        Axle loads per wheel [N].
+    a : numpy.ndarray
+        The car's acceleration [m/s^2].
+    """
+
     Fz: np.ndarray
     a: np.ndarray
-    stopping_distance: float
-    stop_time: float
 
 
 
@@ -282,38 +283,27 @@ WHEEL_SIDE = np.array([1.0, -1.0, 1.0, -1.0])
 WHEEL_AXLE = np.array([0, 0, 1, 1])
 
 
-@dataclass
-class TwoTrackResult:
-    """Time histories of a two-track stop; per-wheel arrays have the columns
-    :data:`WHEELS`.
+@dataclass(frozen=True, kw_only=True)
+class TwoTrackResult(Trajectory):
+    """A two-track stop: the time histories of :class:`.results.Trajectory` with the
+    per-wheel quantities in the columns :data:`WHEELS` (``mu`` is the force ratio of the
+    tire on that wheel's road), and:
 
     Attributes
     ----------
-    t, x, v, a : numpy.ndarray
-        Time [s], distance [m], speed [m/s], acceleration [m/s^2].
-    omega, brake_torque, kappa, mu, Fz, Fx, road : numpy.ndarray
-        Per wheel: spin [rad/s], brake torque [N m], slip [1], force ratio of the tire on
-        that road ``Fx / Fz`` [1], load [N], longitudinal force [N], road friction factor [1].
+    a : numpy.ndarray
+        The car's acceleration [m/s^2].
+    Fz, Fx, road : numpy.ndarray
+        Per wheel: load [N], longitudinal force [N], road friction factor [1].
     yaw_moment : numpy.ndarray
         ``M_z`` about the centre of gravity [N m] (module docstring), positive turning left.
-    stopping_distance, stop_time : float
-        Distance [m] and time [s] from ``v0`` to ``v_stop``.
     """
 
-    t: np.ndarray
-    x: np.ndarray
-    v: np.ndarray
     a: np.ndarray
-    omega: np.ndarray
-    brake_torque: np.ndarray
-    kappa: np.ndarray
-    mu: np.ndarray
     Fz: np.ndarray
     Fx: np.ndarray
     road: np.ndarray
     yaw_moment: np.ndarray
-    stopping_distance: float
-    stop_time: float
 
     def summary(self) -> dict[str, float]:
         """Stopping distance and time, peak |yaw moment| and its mean over the stop."""
