@@ -290,15 +290,21 @@ class PerssonFriction:
         A_2 = 4.0 * c * c * np.einsum("bqk,k->bq", ER * ER + EI * EI, self.w_phi)
         return A_I, A_2
 
+    def _temperatures(self, T0: np.ndarray, dT: np.ndarray | None
+                      ) -> tuple[np.ndarray, np.ndarray]:
+        """log10 a_T felt by every scale (B, nq) and the surface temperature (B,) [K]: the
+        background ``T0`` on the cold branch (``dT`` None), ``T0`` plus the flash rise of
+        each scale's depth and of the surface on the hot one (sec. 5.1, docs/physics.md
+        sec. 3)."""
+        if dT is None:
+            return (np.broadcast_to(self.compound.log10_aT(T0)[:, None], (T0.size, self.q.size)),
+                    T0)
+        return self.compound.log10_aT(T0[:, None] + dT[:, 1:]), T0 + dT[:, 0]
+
     def _evaluate(self, v: np.ndarray, T0: np.ndarray, sigma0: np.ndarray,
                   dT: np.ndarray | None) -> dict[str, np.ndarray]:
         """Friction at flat arrays (B,) with flash temperatures dT (B, nq+1) or None (cold)."""
-        if dT is None:
-            la = np.broadcast_to(self.compound.log10_aT(T0)[:, None], (T0.size, self.q.size))
-            T_surf = T0
-        else:
-            la = self.compound.log10_aT(T0[:, None] + dT[:, 1:])
-            T_surf = T0 + dT[:, 0]
+        la, T_surf = self._temperatures(T0, dT)
         A_I, A_2 = self._angular(v, la)
         s2 = (1.0 / sigma0**2)[:, None]
         g = 0.125 * self.F * A_2 * s2  # dG/dln q, eq. (19)

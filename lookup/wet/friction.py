@@ -138,12 +138,7 @@ class WetPerssonFriction(PerssonFriction):
         if self.depth == 0.0:
             self.last_w = np.ones(v.size)
             return super()._evaluate(v, T0, sigma0, dT)
-        if dT is None:
-            la = np.broadcast_to(self.compound.log10_aT(T0)[:, None], (T0.size, self.q.size))
-            T_surf = T0
-        else:
-            la = self.compound.log10_aT(T0[:, None] + dT[:, 1:])
-            T_surf = T0 + dT[:, 0]
+        la, T_surf = self._temperatures(T0, dT)
         A_I, A_2 = self._angular(v, la)
         s2 = (1.0 / sigma0**2)[:, None]
         G_dry = self._G(0.125 * self.F * A_2 * s2)

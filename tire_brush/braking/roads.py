@@ -35,12 +35,11 @@ import numpy as np
 
 from tirefric.config import Table
 from tirefric.errors import InputError, InputErrors
-from tirefric.paths import resolve_model_file
 
 from .abs_control import ABSParams, LockedWheel, RuleBasedABS
 from .force_map import ForceMap, default_axes
 from .road import MuProfile
-from .study import ErrorCollector, jsonable
+from .study import jsonable, read_stop_spec
 from .two_axle import (
     WHEELS,
     TwoAxleCar,
@@ -112,16 +111,8 @@ def load_roads_spec(path: str | Path) -> RoadsSpec:
     All problems found are reported together (:class:`~tirefric.errors.InputErrors`), each
     naming the file, the field and the value.
     """
-    path = resolve_model_file(path, "studies")
-    root = Table.load(path)
-    collect = ErrorCollector(path)
+    path, root, collect, st, name, v0, v_stop = read_stop_spec(path)
     errors = collect.errors
-
-    root.raw("provenance", "")
-    st = root.table("study")
-    name = collect(st.string, "name", path.stem)
-    v0 = collect(st.quantity, "v0", "velocity", positive=True)
-    v_stop = collect(st.quantity, "v_stop", "velocity", 1.0, positive=True)
     T_K = collect(st.quantity, "temperature", "temperature", positive=True)
     fmu = bool(collect(st.boolean, "fmu", False))
     fmu_step = collect(st.quantity, "fmu_step", "time", 1e-3, positive=True)

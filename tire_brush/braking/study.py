@@ -192,21 +192,30 @@ class ErrorCollector:
         return None
 
 
-def load_study(path: str | Path) -> StudySpec:
-    """Read and validate a study spec (file or shipped name under ``models/studies``).
-
-    All problems found are reported together (:class:`~tirefric.errors.InputErrors`).
-    """
+def read_stop_spec(path: str | Path) -> tuple[Path, Table, ErrorCollector, Table, Any, Any,
+                                              Any]:
+    """The part every stop spec shares (a braking study, a roads spec): the file (a path or
+    a shipped name under ``models/studies``), its root table, an :class:`ErrorCollector`, the
+    ``[study]`` table and its ``name``, ``v0`` and ``v_stop`` [m/s] (None where refused; the
+    collector holds why)."""
     path = resolve_model_file(path, "studies")
     root = Table.load(path)
     collect = ErrorCollector(path)
-    errors = collect.errors
-
     root.raw("provenance", "")
     st = root.table("study")
     name = collect(st.string, "name", path.stem)
     v0 = collect(st.quantity, "v0", "velocity", positive=True)
     v_stop = collect(st.quantity, "v_stop", "velocity", 1.0, positive=True)
+    return path, root, collect, st, name, v0, v_stop
+
+
+def load_study(path: str | Path) -> StudySpec:
+    """Read and validate a study spec (file or shipped name under ``models/studies``).
+
+    All problems found are reported together (:class:`~tirefric.errors.InputErrors`).
+    """
+    path, root, collect, st, name, v0, v_stop = read_stop_spec(path)
+    errors = collect.errors
     Tb0 = collect(st.quantity, "brake_torque_initial_Nm", "dimensionless", 0.0, nonnegative=True)
     vehicle_file = collect(st.path, "vehicle")
     car = collect(load_quarter_car, vehicle_file) if vehicle_file else None
