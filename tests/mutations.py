@@ -14,9 +14,13 @@ so a mutation can never silently become a no-op after the code changes.
 Each mutation is applied to a fresh copy of the repository in a temporary folder, and the
 fast suite (the ``pytest`` defaults of ``pyproject.toml``: ``-m 'not slow'``) runs there with
 ``-x`` and ``PYTHONPATH`` pointing at the copy, so that the copy is imported and not the
-installed package; this is verified before the first run. The test files are passed in an
-order that puts the independent physics references first, so that a caught mutation stops
-early; the set of tests is the whole fast suite. Mutations run in parallel (``-j``).
+installed package; this is verified before the first run. The copy leaves out virtual
+environments, caches and build products. The test files are passed nearest first, so that a
+caught mutation stops early: the tests that import the mutated module, then those that import
+a module that imports it, and so on (:func:`test_files`, from the import graph of
+``tests/import_graph.py``; a C source counts as the Python modules that name it), the
+independent physics references (:data:`FIRST`) breaking ties; the set of tests is always the
+whole fast suite. Mutations run in parallel (``-j``).
 """
 
 from __future__ import annotations
@@ -31,6 +35,8 @@ import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+
+from import_graph import PACKAGES, distances_to, import_graph, imports, module_name
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -162,8 +168,9 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
 FIRST = ["test_physics_reference.py", "test_fmu_units.py", "test_slip_kinematics.py",
          "test_errors.py", "test_persson_engine.py"]
 
-IGNORE = shutil.ignore_patterns(".git", "*.egg-info", "__pycache__", ".pytest_cache",
-                                ".ruff_cache", "build", "dist", "_tirecore*")
+IGNORE = shutil.ignore_patterns(".git", ".venv*", "venv", "*.egg-info", "__pycache__",
+                                ".pytest_cache", ".ruff_cache", ".core-cache", "build", "dist",
+                                "_tirecore*", "demo_out", "out")
 
 
 def check_patches(mutations: list[tuple[str, str, str, str]]) -> list[str]:
@@ -207,21 +214,53 @@ def environment(copy: Path) -> dict[str, str]:
 
 def verify_imports(copy: Path) -> None:
     """Fail unless the copy's packages are the ones imported with :func:`environment`."""
-    code = ("import lookup, tire_brush, fmu_src, tirefric_models, sys\n"
-            "for m in (lookup, tire_brush, fmu_src, tirefric_models):\n"
+    code = ("import tirefric, lookup, tire_brush, fmu_src, tirefric_models, sys\n"
+            "for m in (tirefric, lookup, tire_brush, fmu_src, tirefric_models):\n"
             "    print(m.__file__)\n")
     r = subprocess.run([sys.executable, "-c", code], cwd=copy, env=environment(copy),
                        capture_output=True, text=True, check=True)
     files = r.stdout.split()
     outside = [f for f in files if not Path(f).resolve().is_relative_to(copy.resolve())]
-    if len(files) != 4 or outside:
+    if len(files) != 5 or outside:
         raise SystemExit(f"the temporary copy is not the imported package: {files}")
 
 
-def test_files(copy: Path) -> list[str]:
-    rest = sorted(p.name for p in (copy / "tests").glob("test_*.py"))
-    first = [f for f in FIRST if f in rest]
-    return [f"tests/{f}" for f in first + [f for f in rest if f not in first]]
+#: The Python modules of each C source: its loader, and for the tire core its operation-for-
+#: operation Python mirror (the tests pinning the two import the mirror).
+C_OWNERS = {"tire_brush/csrc/tirecore.c": ("tire_brush.element", "tire_brush.ccore"),
+            "tire_brush/csrc/tirecore.h": ("tire_brush.element", "tire_brush.ccore"),
+            "fmu_src/runtime/native/fmu_wrapper.c": ("fmu_src.make.native_build",)}
+
+
+def modules_of(rel: str, root: Path = ROOT) -> list[str]:
+    """The project modules a mutated file belongs to: a Python module itself; a C source its
+    loader (:data:`C_OWNERS`), or else the modules whose source names it."""
+    path = root / rel
+    if path.suffix == ".py":
+        return [module_name(path, root)]
+    if rel in C_OWNERS:
+        return list(C_OWNERS[rel])
+    return sorted(module_name(p, root) for pkg in PACKAGES for p in (root / pkg).rglob("*.py")
+                  if path.name in p.read_text(encoding="utf-8"))
+
+
+def test_files(copy: Path, rel: str = "") -> list[str]:
+    """All fast-suite test files, nearest the mutated file ``rel`` first (module docstring)."""
+    names = sorted(p.name for p in (copy / "tests").glob("test_*.py"))
+    far = 10**6
+    dist: dict[str, int] = {}
+    if rel:
+        graph = import_graph(copy)
+        for m in modules_of(rel, copy):
+            for k, d in distances_to(m, graph).items():
+                dist[k] = min(dist.get(k, far), d)
+
+    def rank(name: str) -> tuple[int, int, str]:
+        deps = imports(copy / "tests" / name, copy)
+        near = min((dist[d] for d in deps if d in dist), default=far)
+        return near, FIRST.index(name) if name in FIRST else len(FIRST), name
+
+    return [f"tests/{f}" for f in sorted(names, key=rank)]
 
 
 def run_one(mutation: tuple[str, str, str, str], tmp: Path) -> tuple[str, bool, str, float]:
@@ -232,7 +271,7 @@ def run_one(mutation: tuple[str, str, str, str], tmp: Path) -> tuple[str, bool, 
     path = copy / rel
     path.write_text(path.read_text().replace(old, new, 1))
     cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider",
-           "--no-header", "-rf", *test_files(copy)]
+           "--no-header", "-rf", *test_files(copy, rel)]
     r = subprocess.run(cmd, cwd=copy, env=environment(copy), capture_output=True, text=True)
     failed = re.findall(r"^(?:FAILED|ERROR) (\S+)", r.stdout, re.M)
     caught = r.returncode != 0
