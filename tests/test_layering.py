@@ -9,20 +9,25 @@ import inside a function cannot come back unnoticed.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
-from import_graph import cycles, import_graph, imports
+from import_graph import PACKAGES, cycles, import_graph, imports
 
 ROOT = Path(__file__).resolve().parents[1]
-#: package (or sub-package) -> the packages it must not import
-FORBIDDEN = {
-    "tirefric": ("lookup", "tire_brush", "fmu_src"),
-    "lookup": ("tire_brush", "fmu_src"),
-    "tire_brush": ("fmu_src",),
-    "fmu_src/runtime": ("fmu_src.make", "fmu_src.host"),
-    "fmu_src/make": ("fmu_src.host",),
-}
+DESIGN = ROOT / "docs" / "design.md"
+
+
+def layers_from_design(text: str) -> dict[str, tuple[str, ...]]:
+    """The layer table of docs/design.md ("Dependency direction"): package (or sub-package
+    folder) -> the packages it must not import."""
+    rows = re.findall(r"^\| *\d+ *\| *`([\w/]+)` *\|([^|]*)\|\s*$", text, re.M)
+    return {pkg: tuple(re.findall(r"`([\w.]+)`", rest)) for pkg, rest in rows}
+
+
+#: package (or sub-package) -> the packages it must not import, as docs/design.md states it
+FORBIDDEN = layers_from_design(DESIGN.read_text(encoding="utf-8"))
 #: Modules of plumbing that live in the base package, not in the physics package ``lookup``.
 BASE_MODULES = ("errors", "paths", "config", "units")
 
@@ -35,6 +40,20 @@ def test_imports_point_down_the_flow(package) -> None:
             if any(name == f or name.startswith(f + ".") for f in FORBIDDEN[package]):
                 bad.append(f"{path.relative_to(ROOT)} imports {name}")
     assert not bad, "\n".join(bad)
+
+
+def test_the_design_document_states_every_layer() -> None:
+    """The table the checks read lists the base, the physics, the tire and the FMU's three
+    parts bottom up, each barred from everything above it (so a new layer needs a row)."""
+    order = ["tirefric", "lookup", "tire_brush", "fmu_src/runtime", "fmu_src/make",
+             "fmu_src/host"]
+    assert list(FORBIDDEN) == order, f"docs/design.md layer table: {list(FORBIDDEN)}"
+    tops = ["tirefric", "lookup", "tire_brush", "fmu_src"]
+    for pkg in ("tirefric", "lookup", "tire_brush"):
+        above = tops[tops.index(pkg) + 1:]
+        assert set(FORBIDDEN[pkg]) == set(above), f"{pkg} must be barred from {above}"
+    packages = {p for p in PACKAGES}
+    assert packages == {k.split("/")[0] for k in FORBIDDEN}
 
 
 def test_no_import_cycles() -> None:
@@ -86,3 +105,15 @@ def test_a_study_with_fmu_abs_needs_a_simulator_handed_to_it(tmp_path) -> None:
     spec = load_study("abs_default")
     with pytest.raises(InputError, match=r"study\.fmu_abs"):
         run_study(replace(spec, fmu_abs=True))
+
+
+def test_the_version_is_defined_once() -> None:
+    """docs/design.md: the version is defined once, in tirefric/__init__.py, and the
+    packaging metadata reads it there."""
+    import tomllib
+
+    meta = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    assert meta["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "tirefric.__version__"}
+    defs = [str(p.relative_to(ROOT)) for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py")
+            if re.search(r"^__version__\s*=", p.read_text(encoding="utf-8"), re.M)]
+    assert defs == ["tirefric/__init__.py"], defs
