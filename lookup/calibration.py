@@ -98,10 +98,10 @@ class ParameterKind:
     target: str
 
     def to_internal(self, x: float) -> float:
-        return float(np.log10(x)) if self.log else x / self.scale
+        return float(np.log10(x)) if self.log else float(x / self.scale)
 
     def to_si(self, u: float) -> float:
-        return float(10.0**u) if self.log else u * self.scale
+        return float(10.0**u) if self.log else float(u * self.scale)
 
 
 #: The parameters :func:`fit` can adjust: the adhesive law of eqs. (21)-(22) per compound (or
@@ -1032,9 +1032,9 @@ class CalibrationResult:
             "covariance": {"labels": self.free_labels,
                            "variables": [_variable(self.parameter(lb)) for lb in
                                          self.free_labels],
-                           "matrix": self.covariance.tolist(),
+                           "matrix": _matrix(self.covariance),
                            "formula": "s^2 (J^T J)^-1, J by central differences at the optimum"},
-            "correlation": {"labels": self.free_labels, "matrix": self.correlation.tolist()},
+            "correlation": {"labels": self.free_labels, "matrix": _matrix(self.correlation)},
             "s2": _num(self.s2), "dof": self.dof,
             "condition_number": _num(cond),
             "rms_log10": {"fit": self.rms_log10("fit"), "held_out": self.rms_log10("held_out"),
@@ -1049,6 +1049,11 @@ class CalibrationResult:
         if points:
             out["points"] = self.points()
         return out
+
+
+def _matrix(a: np.ndarray) -> list[list[float | None]]:
+    """A matrix for JSON: non-finite entries (undetermined variables) as null."""
+    return [[_num(x) for x in row] for row in np.asarray(a, float)]
 
 
 def _variable(p: FittedParameter) -> str:
@@ -1153,9 +1158,21 @@ def fit(spec: FitSpec) -> CalibrationResult:
         if not np.isfinite(cond) or cond > 1e8:
             warnings.append(f"the Jacobian is (nearly) singular (condition number {cond:.3g}): "
                             "some parameters are not identifiable from these data")
-        inv = np.where(S > S[0] * 1e-12, 1.0 / np.maximum(S, 1e-300) ** 2, 0.0)
+        keep = S > S[0] * 1e-12
+        inv = np.zeros_like(S)
+        inv[keep] = 1.0 / S[keep] ** 2
         cov = s2 * (Vt.T * inv) @ Vt
         sd = np.sqrt(np.diag(cov))
+        if not keep.all():
+            # a direction the data do not see: the variables along it are undetermined
+            blind = np.abs(Vt[~keep]).max(axis=0) > 1e-6
+            sd[blind] = np.inf
+            cov[blind, :] = np.nan
+            cov[:, blind] = np.nan
+            labels_blind = [e.label for e, f in zip(model.entries, free, strict=True) if f]
+            warnings.append("not determined by these data (no uncertainty can be given): "
+                            + ", ".join(lb for lb, b in zip(labels_blind, blind, strict=True)
+                                        if b))
         std[free] = sd
         with np.errstate(invalid="ignore", divide="ignore"):
             corr = cov / np.outer(sd, sd)

@@ -488,14 +488,18 @@ def write_models(result: CalibrationResult, outdir: str | Path) -> dict[str, Pat
     Each is its original file with the fitted values (SI numbers) and a provenance that
     says what was fitted, from which data files (SHA-256), with which bounds and error; the
     original provenance follows as "Before calibration". Data files the originals name are
-    referred to from ``outdir``.
+    referred to from ``outdir``. A file none of whose values was fitted (the compounds when
+    only the road was fitted, the road when only the adhesive law was) is not written.
     """
     out = Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
     s = result.spec
     written: dict[str, Path] = {}
     values = result.compound_values()
+    kinds = {KINDS[p.name].target for p in s.parameters}
     for i, c in enumerate(s.compounds):
+        if "adhesion" not in kinds and s.adhesion_shift == "file":
+            break
         src = c.compound.source
         data = _relocate(_load_toml(src), Path(src).parent, out)
         law = result.model.law(i, values[c.name])
@@ -515,6 +519,8 @@ def write_models(result: CalibrationResult, outdir: str | Path) -> dict[str, Pat
         path.write_text(dumps(data, header=f"{c.name}: calibrated copy of {src}\n"
                               "written by tirefric fit; see provenance"))
         written[c.name] = path
+    if "surface" not in kinds:
+        return written
     ssrc = s.surface.source
     data = _relocate(_load_toml(ssrc), Path(ssrc).parent, out)
     fs = result.fitted_surface()

@@ -250,6 +250,20 @@ def test_uncertainty_matches_the_spread_over_repeated_noisy_data(models) -> None
     assert np.mean(s2) == pytest.approx(0.02**2, rel=0.2)
 
 
+def test_a_parameter_the_data_do_not_see_gets_no_uncertainty(models) -> None:
+    """D on the cold branch changes nothing (no flash heating): its Jacobian column is zero,
+    its uncertainty infinite (not the 0 a pseudo-inverse would give), the report says so,
+    and the JSON stays valid (null)."""
+    v, T = _grid()
+    tab = _table(_truth(models["A"], models["road"], q1=models["road"].q1), v, T, noise=0.01)
+    r = fit(_spec(models, {"A": [tab]}, (*FOUR[:3], ParameterSpec("D", 1e-4, 3e-3))))
+    assert r.parameter("D").std == np.inf
+    assert all(np.isfinite(r.parameter(n).std) for n in ("sigma_f0", "c", "v_star"))
+    assert any("not determined" in w and "D" in w for w in r.warnings)
+    js = json.loads(json.dumps(r.to_dict(), allow_nan=False))
+    assert js["parameters"][3]["std"] is None
+
+
 # -- held out ---------------------------------------------------------------------------------
 def test_held_out_points_stay_out_of_the_fit(models) -> None:
     """Held out: compound B and the 40 C points of A. Doubling the held-out measurements
@@ -458,6 +472,7 @@ def test_written_model_with_a_data_file_loads_from_elsewhere(tmp_path, models) -
     r = fit(FitSpec("t", models["road"], (CompoundData("T", comp, (tab,)),),
                     FOUR[:3], Branch("cold")))
     written = write_models(r, tmp_path / "elsewhere" / "deeper")
+    assert set(written) == {"T"}, "nothing of the road was fitted: no surface file"
     again = load_compound(written["T"])
     assert again.adhesion.sigma_f0 == pytest.approx(6e6, rel=1e-2)
     np.testing.assert_allclose(
