@@ -465,6 +465,12 @@ class FitSpec:
                     err(f"q1 must lie inside the road spectrum's data ({q0:.4g} < q1 <= "
                         f"{qmax:.4g} 1/m)", "parameter.q1.min" if p.lower <= q0
                         else "parameter.q1.max", p.lower if p.lower <= q0 else p.upper)
+            if p.name == "xi1":
+                for bound, x in (("min", p.lower), ("max", p.upper)):
+                    try:
+                        CutoffRule("rms_slope", xi1=x).resolve(self.surface.psd)
+                    except InputError as exc:
+                        err(exc.message, f"parameter.xi1.{bound}", x)
             if p.name == "xi1" and p.start is None and self.surface.cutoff.rule != "rms_slope":
                 err("the surface's cut-off is fixed: fitting xi1 needs a start value",
                     "parameter.xi1.start")
@@ -640,8 +646,12 @@ class CalibrationModel:
                          "start value or wider bounds", source=self.spec.source or None,
                          field=f"parameter.{p.name}.start")
 
-    def values(self, u: np.ndarray) -> tuple[list[dict[str, float]], dict[str, float]]:
-        """Parameter values [SI] at u: per compound (the adhesive law) and the road's."""
+    def values(self, u: np.ndarray, start: bool = False
+               ) -> tuple[list[dict[str, float]], dict[str, float]]:
+        """Parameter values [SI] at u: per compound (the adhesive law) and the road's.
+
+        A compound without fitted points gets the held-out rule's values of the per-compound
+        parameters; with ``start`` (the model before calibration) its own start values."""
         comp = [dict(fv) for fv in self.file_values]
         road: dict[str, float] = {}
         per: dict[str, list[float]] = {}
@@ -655,7 +665,7 @@ class CalibrationModel:
             else:
                 comp[e.compound][e.parameter.name] = k.to_si(x)
                 per.setdefault(e.parameter.name, []).append(float(x))
-        if self.spec.held_out.per_compound == "mean":
+        if self.spec.held_out.per_compound == "mean" and not start:
             for name, us in per.items():
                 for i, cv in enumerate(comp):
                     if not self.has_fit[i]:
@@ -746,11 +756,13 @@ class CalibrationModel:
             self._cold_cache.move_to_end(key)
         return hit
 
-    def predict(self, u: np.ndarray, mask: np.ndarray | None = None) -> Prediction:
-        """Model friction at the points selected by ``mask`` (all points if None)."""
+    def predict(self, u: np.ndarray, mask: np.ndarray | None = None, start: bool = False
+                ) -> Prediction:
+        """Model friction at the points selected by ``mask`` (all points if None); ``start``:
+        held-out compounds with their own start values (see :meth:`values`)."""
         t0 = time.perf_counter()
         mask = np.ones(self.v.size, bool) if mask is None else mask
-        comp, road = self.values(np.asarray(u, float))
+        comp, road = self.values(np.asarray(u, float), start)
         q1, D = self.road(road)
         n = int(mask.sum())
         out = {k: np.zeros(n) for k in ("mu", "mu_visc", "mu_cont", "area", "dT_flash")}
@@ -999,13 +1011,13 @@ class CalibrationResult:
     # -- fitted model objects ---------------------------------------------------------------
     def compound_values(self) -> dict[str, dict[str, float]]:
         """The adhesive law's parameters [SI] of every compound at the result."""
-        comp, _ = self.model.values(self.u)
+        comp, _ = self.model.values(self.u, self.mode == "predict")
         return {c.name: comp[i] for i, c in enumerate(self.spec.compounds)}
 
     def fitted_compound(self, name: str) -> Compound:
         """The compound with its fitted adhesive law (held-out compounds: as predicted)."""
         i = [c.name for c in self.spec.compounds].index(name)
-        comp, _ = self.model.values(self.u)
+        comp, _ = self.model.values(self.u, self.mode == "predict")
         base = self.spec.compounds[i].compound
         return replace(base, adhesion=self.model.law(i, comp[i]))
 
@@ -1077,8 +1089,9 @@ def _parameters(model: CalibrationModel, u: np.ndarray, std: np.ndarray,
     return out
 
 
-def _held_out_values(model: CalibrationModel, u: np.ndarray) -> dict[str, dict[str, float]]:
-    comp, _ = model.values(u)
+def _held_out_values(model: CalibrationModel, u: np.ndarray, start: bool = False
+                     ) -> dict[str, dict[str, float]]:
+    comp, _ = model.values(u, start)
     per = {p.name for p in model.spec.parameters if p.per_compound}
     return {c.name: {k: comp[i][k] for k in sorted(per)}
             for i, c in enumerate(model.spec.compounds) if not model.has_fit[i] and per}
@@ -1089,11 +1102,11 @@ def predict(spec: FitSpec) -> CalibrationResult:
     numbers "before calibration")."""
     model = CalibrationModel(spec)
     t0 = time.perf_counter()
-    pred = model.predict(model.u0)
+    pred = model.predict(model.u0, start=True)
     n = model.u0.size
     return CalibrationResult(
         spec, "predict", _parameters(model, model.u0, np.full(n, np.nan), [""] * n),
-        _held_out_values(model, model.u0), [], np.zeros((0, 0)), np.zeros((0, 0)),
+        _held_out_values(model, model.u0, start=True), [], np.zeros((0, 0)), np.zeros((0, 0)),
         float("nan"), 0, float("nan"), pred, pred, model, model.u0.copy(),
         {"seconds": time.perf_counter() - t0, "evaluations": model.n_evaluations}, [])
 
@@ -1118,6 +1131,9 @@ def fit(spec: FitSpec) -> CalibrationResult:
     model = CalibrationModel(spec)
     n = model.u0.size
     m = int(model.fitted.sum())
+    if m == 0:
+        raise InputError("every point is held out: nothing to fit", source=spec.source or None,
+                         field="held_out")
     if n == 0:
         raise InputError("no parameter to fit (use predict for the model without fitting)",
                          source=spec.source or None, field="parameter")
@@ -1126,7 +1142,7 @@ def fit(spec: FitSpec) -> CalibrationResult:
                          "points than variables", source=spec.source or None,
                          field="held_out")
     t0 = time.perf_counter()
-    start = model.predict(model.u0)
+    start = model.predict(model.u0, start=True)
     tol = spec.solver.tol
     res = least_squares(model.residuals, model.u0, bounds=(model.lower, model.upper),
                         method="trf", x_scale=1.0, diff_step=spec.solver.step(spec.branch.kind),
@@ -1135,8 +1151,10 @@ def fit(spec: FitSpec) -> CalibrationResult:
     evals_opt = model.n_evaluations
     u = res.x
     span = model.upper - model.lower
-    at = ["lower" if u[j] - model.lower[j] <= 1e-9 * span[j] else
-          "upper" if model.upper[j] - u[j] <= 1e-9 * span[j] else "" for j in range(n)]
+    act = res.active_mask
+    at = ["lower" if act[j] < 0 or u[j] - model.lower[j] <= 1e-9 * span[j] else
+          "upper" if act[j] > 0 or model.upper[j] - u[j] <= 1e-9 * span[j] else ""
+          for j in range(n)]
     free = np.array([a == "" for a in at])
     t1 = time.perf_counter()
     J = central_jacobian(model.residuals, u, model.lower, model.upper,

@@ -151,6 +151,17 @@ def _resolve(t: Table, key: str, kind: str) -> Path:
                       f"{kind[:-1]} name", value) from None
 
 
+def _data_file(t: Table, key: str) -> Path:
+    """A data file named by ``key``, relative to the spec's folder; the error names the path
+    tried."""
+    value = t.string(key)
+    p = Path(value)
+    p = p if p.is_absolute() else t.source.parent / p
+    if not p.is_file():
+        raise t.error(key, f"file not found (tried {p.resolve()})", value)
+    return p
+
+
 def _sub_tables(t: Table, key: str) -> list[Table]:
     raw = t.raw(key, [])
     if isinstance(raw, dict):
@@ -215,7 +226,7 @@ def load_fit_spec(path: str | Path) -> FitSpec:
                            "friction")
         for tt in ttabs:
             tables.append(read_measured_table(
-                tt.path("file"),
+                _data_file(tt, "file"),
                 tt.quantity("temperature", "temperature", positive=True)
                 if tt.has("temperature") else None,
                 tt.quantity("pressure", "pressure", positive=True)

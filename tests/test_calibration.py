@@ -309,6 +309,10 @@ def test_a_held_out_compound_gets_the_fitted_compounds_mean(models) -> None:
         assert [p.label for p in r.parameters] == ["sigma_f0[A]", "sigma_f0[B]"]
         assert r.held_out_values["C"]["sigma_f0"] == pytest.approx(want, rel=1e-3)
         assert r.fitted_compound("C").adhesion.sigma_f0 == pytest.approx(want, rel=1e-3)
+        # before calibration (start values, and predict) C has its own file's value
+        before = predict(r.spec)
+        assert before.held_out_values["C"]["sigma_f0"] == pytest.approx(4e6, rel=1e-12)
+        np.testing.assert_allclose(before.prediction.mu, r.start_prediction.mu, rtol=1e-12)
 
 
 # -- bounds -----------------------------------------------------------------------------------
@@ -323,9 +327,9 @@ def test_bounds_are_respected(models) -> None:
     seen = []
     orig = CalibrationModel.values
 
-    def spy(self, u):
+    def spy(self, u, *args):
         seen.append(np.array(u))
-        return orig(self, u)
+        return orig(self, u, *args)
 
     CalibrationModel.values = spy
     try:
@@ -573,6 +577,12 @@ def test_q1_bounds_outside_a_measured_spectrum_are_refused(tmp_path, files, mode
     with pytest.raises(InputError) as e:
         load_fit_spec(spec)
     assert "'parameter.q1.max'" in str(e.value) and "10000000.0" in str(e.value)
+    # the spectrum's rms slope reaches 0.77 at its end: xi1 up to 2 cannot be resolved
+    spec.write_text(spec.read_text().replace(
+        'name = "q1"\nmin = "2e4 1/m"\nmax = "1e7 1/m"', 'name = "xi1"\nmin = 0.5\nmax = 2.0'))
+    with pytest.raises(InputError) as e:
+        load_fit_spec(spec)
+    assert "'parameter.xi1.max'" in str(e.value) and "never reaches" in str(e.value)
 
 
 def test_fit_needs_more_points_than_variables(models) -> None:
@@ -582,3 +592,5 @@ def test_fit_needs_more_points_than_variables(models) -> None:
         fit(_spec(models, {"A": [tab]}, FOUR))
     with pytest.raises(InputError, match="no parameter to fit"):
         fit(_spec(models, {"A": [tab]}, ()))
+    with pytest.raises(InputError, match="every point is held out"):
+        fit(_spec(models, {"A": [tab]}, FOUR, held_out=HeldOut(("A",))))
