@@ -562,6 +562,38 @@ def test_bad_branch_and_table_fields_are_refused(tmp_path, files, models) -> Non
             assert value in msg, msg
 
 
+def test_engine_and_solver_tables_are_read(tmp_path, files, models) -> None:
+    """[engine] sets the engine's settings (the fit's hot_tol is the tighter of the two),
+    [solver] the solve's; [adhesion] and [held_out] with units."""
+    spec = load_fit_spec(_write_case(tmp_path, files, models, extra="""
+[engine]
+q_per_decade = 12
+hot_tol = "1e-4 K"
+
+[solver]
+max_evaluations = 50
+diff_step = 1e-5
+hot_tol = "1e-7 K"
+
+[adhesion]
+shift = "arrhenius"
+activation_energy = "0.9 eV"
+
+[held_out]
+temperatures = ["273.15 K", "20 degC"]
+per_compound = "file"
+"""))
+    assert spec.settings.q_per_decade == 12 and spec.settings.hot_tol == 1e-4
+    assert spec.solver.max_evaluations == 50 and spec.solver.step("hot") == 1e-5
+    assert spec.adhesion_shift == "arrhenius" and spec.activation_energy == pytest.approx(
+        0.9 * EV)
+    assert spec.held_out.temperatures == pytest.approx((273.15, 293.15))
+    m = CalibrationModel(spec)
+    assert m.settings.hot_tol == 1e-7 and m.settings.q_per_decade == 12
+    assert int(m.held_out.sum()) == 12 and m.law(0, m.file_values[0]).shift.activation_energy \
+        == pytest.approx(0.9 * EV)
+
+
 def test_q1_bounds_outside_a_measured_spectrum_are_refused(tmp_path, files, models) -> None:
     """A tabulated road spectrum ends at its last wavenumber: q1 bounds beyond it are
     refused naming the bound."""
