@@ -84,6 +84,13 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
     ("eq. (21) shear law width c doubled", "lookup/adhesion.py",
      "return self.sigma_f0 * np.exp(-self.c * x * x)",
      "return self.sigma_f0 * np.exp(-2.0 * self.c * x * x)"),
+    # -- calibration (lookup/calibration.py) ---------------------------------------------------
+    ("calibration: cold shortcut without A/A0 (eq. 12)", "lookup/calibration.py",
+     "mc = law.sigma_f(v, T) * area / p", "mc = law.sigma_f(v, T) / p"),
+    ("calibration: covariance without the residual variance s^2", "lookup/calibration.py",
+     "cov = s2 * (Vt.T * inv) @ Vt", "cov = (Vt.T * inv) @ Vt"),
+    ("calibration: held-out points enter the fit", "lookup/calibration.py",
+     "self.fitted = ~self.held_out", "self.fitted = np.ones_like(self.held_out)"),
     # -- FMU unit definitions (fmu_src/) ------------------------------------------------------
     ("FMU degC display offset sign", "fmu_src/runtime/interface.py",
      '"K": (("degC", 1.0, -273.15),),', '"K": (("degC", 1.0, 273.15),),'),
