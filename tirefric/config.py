@@ -466,11 +466,9 @@ class CsvTable:
         """Index of the column holding ``canonical`` (its name or an alias), or None.
 
         Two columns that both mean it are an :class:`InputError`."""
-        if canonical in self.names:  # the exact canonical name first (as always)
-            hits = [i for i, nm in enumerate(self.names) if nm == canonical]
-        else:
-            wanted = {_normalise_name(a) for a in column_names_for(canonical)}
-            hits = [i for i, nm in enumerate(self.names) if _normalise_name(nm) in wanted]
+        wanted = {_normalise_name(a) for a in column_names_for(canonical)}
+        hits = [i for i, nm in enumerate(self.names)
+                if nm == canonical or _normalise_name(nm) in wanted]
         if len(hits) > 1:
             raise InputError(f"{len(hits)} columns mean '{canonical}': "
                              f"{[self.cells[i] for i in hits]}; keep one ({self._where()})",
