@@ -82,10 +82,10 @@ CONTACT_AREA_LAWS: tuple[str, ...] = ("persson", "rescaled_kappa")
 #: A result whose share of integrand from outside the measured band (``outside``, module
 #: docstring) exceeds this warns. The part taken from outside follows the Maxwell asymptotes
 #: of the curve's ends (lookup.modulus.TabulatedMasterCurve), which can be off by a factor of
-#: order one (they bound the loss of a spectrum of finite width from below: E'' ~ omega^1
-#: where measured tread compounds fall as omega^0.1-0.3), so a 5 % share can move the
-#: result by a few percent: the scatter of measured master curves and friction data. Below
-#: it the extrapolation does not matter at that level.
+#: order one (below the data E'' falls in proportion to omega, where a filled tread compound
+#: keeps tan delta near 0.1-0.3 over many decades of its rubbery side), so a 5 % share can
+#: move the result by a few percent: the scatter of measured master curves and friction
+#: data. Below it the extrapolation does not matter at that level.
 OUTSIDE_WARNING_SHARE = 0.05
 
 #: Keys of an evaluation that the flash-temperature iteration carries along.
