@@ -92,6 +92,7 @@ OUTSIDE_WARNING_SHARE = 0.05
 _PARTS = ("mu_visc", "mu_cont", "area", "dmu_w", "P_m")
 #: Keys of the extrapolation accounting (module docstring).
 OUTSIDE_KEYS = ("outside", "outside_visc", "outside_area")
+_OUTSIDE_ALL = (*OUTSIDE_KEYS, "log10_omega_min", "log10_omega_max")
 
 
 @dataclass(frozen=True)
@@ -478,9 +479,14 @@ class PerssonFriction:
         B, n = v.size, self.q.size + 1
         uv, inv = np.unique(v, return_inverse=True)
         kernels = np.stack([self._kernel(x) for x in uv])
+        # with a measured band every evaluation also gives the extrapolation shares (the
+        # table lookups dominate its cost, the shares add two masked sums), so the final
+        # iterate's are at hand
+        track = self.band is not None
+        keys = _PARTS + (_OUTSIDE_ALL if track else ())
 
         def F(x: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-            parts = self._evaluate(v[idx], T0[idx], sigma0[idx], x)
+            parts = self._evaluate(v[idx], T0[idx], sigma0[idx], x, outside=track)
             W = self.heat_sources(v[idx], sigma0[idx], parts)
             return np.einsum("bij,bj->bi", kernels[inv[idx]], W), parts
 
@@ -488,7 +494,7 @@ class PerssonFriction:
         if cold is None:
             fx, parts = F(x, np.arange(B))
         else:
-            parts = {k: cold[k].copy() for k in _PARTS}  # the loop updates it in place
+            parts = {k: cold[k].copy() for k in keys}  # the loop updates it in place
             W = self.heat_sources(v, sigma0, parts)
             fx = np.einsum("bij,bj->bi", kernels[inv], W)
         res = fx - x
@@ -535,12 +541,8 @@ class PerssonFriction:
             rnorm[idx] = np.abs(rn).max(axis=1)
             iters[idx] += 1
             active = rnorm > s.hot_tol
-        # report the friction at the final iterate together with its residual; the
-        # extrapolation shares at the final temperatures (one more evaluation, only for a
-        # master curve with a measured band)
-        if self.band is not None:
-            final = self._evaluate(v, T0, sigma0, x, outside=True)
-            parts.update({k: final[k] for k in final if k not in _PARTS})
+        # report the friction at the final iterate together with its residual (and, with a
+        # measured band, the extrapolation shares at the final temperatures)
         return x, rnorm, iters, parts
 
     # -- public API -----------------------------------------------------------------------------

@@ -232,7 +232,7 @@ class WetPerssonFriction(PerssonFriction):
         saved = (self.adhesive_weight, self.t_contact)
         try:
             self.adhesive_weight = 1.0
-            c1 = self._evaluate(v, T0, sigma0, None)
+            c1 = self._evaluate(v, T0, sigma0, None, outside=self.band is not None)
             state = self._cold_state
             c0 = {**c1, "mu_cont": np.zeros_like(c1["mu_cont"])}
             h1 = self._hot_result(self._fixed_point(v, T0, sigma0, cold=c1), shape)
