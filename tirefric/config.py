@@ -3,7 +3,9 @@
 Quantities in model files are numbers in the SI unit stated by the schema (written in the
 files' comments), or strings ``"<number> <unit>"`` in any unit this module knows, e.g.
 ``E0 = "6 MPa"``, ``T_ref = "20 degC"``, ``v_star = "1 cm/s"``. An unknown unit is an error.
-CSV tables carry their units in the header, ``name [unit]``.
+Text tables (CSV and the like) carry their units in the header, ``name [unit]`` or
+``name (unit)``; :class:`CsvTable` reads them as users write them (header commented or not,
+comma, tab, semicolon or white space, the column aliases of :data:`COLUMN_ALIASES`).
 """
 
 from __future__ import annotations
