@@ -41,9 +41,11 @@ patch during the step (``p(x(t))``, parabolic).
 The belt (massless, springs ``k_c`` and dampers ``d_c`` to the rim) is coupled linearly
 implicitly: over an outer step ``h`` the tread force is ``F_n - J (V_b - V_{b,n})`` with ``J``
 the tread's stiffness against belt motion over the step, ``(k h + d)`` for a sticking element
-and ``(k h + d)(m/h + c)/(A + c)`` for a sliding one (``c = p mu/|w|``, the secant friction
-stiffness); a steady state (``F_n = k_c delta``, ``V_b = V_s``) is reproduced exactly whatever
-``J``, and every element, sliding or not, stiffens the belt (no period-2 chatter).
+and the exact response of the linearised element for a sliding one
+(:func:`element_stiffness`, with ``c = p mu/|w|`` the secant friction stiffness); a steady
+state (``F_n = k_c delta``, ``V_b = V_s``) is reproduced exactly whatever ``J``. The outer step
+is ``dt_internal``, shortened where the coupling needs it (:func:`outer_step`;
+docs/tire-core.md, "belt coupling at high rolling speed").
 
 This module imports only the standard library: it runs inside an FMU.
 """
@@ -80,6 +82,13 @@ N_OUT = 12
 #: pi / 2: the inclination angle is refused at or beyond it.
 HALF_PI = 1.5707963267948966
 LN10 = 2.302585092994046
+#: Longest outer step in units of ``1 / sqrt(k / m)``, the tread tip's period over 2 pi
+#: (``TIP_STEP`` of the core): the belt coupling holds the belt's velocity over the step while
+#: the tips ring against it (docs/tire-core.md, "belt coupling at high rolling speed").
+TIP_STEP = 1.4
+#: Largest loop gain of the belt's lateral-yaw coupling through the rolling speed over an outer
+#: step (:func:`belt_gain`; ``BELT_GAIN_MAX`` of the core).
+BELT_GAIN_MAX = 0.5
 #: Relative margin of the bounds of the node walk (tirecore.c, WALK_MARGIN): a node skipped as
 #: "R < 0" (or "R >= 0") has |R| > 1e-7, far above the rounding of its evaluation.
 WALK_MARGIN = 1e-6
@@ -662,6 +671,59 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
     return energy, o2[5], o2[6], o2[7], o2[8], p2, steps, Jx, Jy, Jm, Jt
 
 
+def element_stiffness(k: float, d: float, m: float, c: float, h: float) -> float:
+    r"""Stiffness [N s/m^3] of one tread element against its base over an outer step ``h``
+    (``element_stiffness`` of the core; docs/tire-core.md, "belt").
+
+    The stress the element puts on the belt at the end of the step, per unit step of the base
+    velocity at its start, for the element linearised with the secant friction stiffness
+    ``c = p mu / |w|``: tip mass ``m``, spring ``k``, damper ``d``. With ``y`` the change of
+    the deflection plus ``c / k`` and ``y'`` the relative velocity of tip and base,
+
+    .. math::  y'' + 2 q y' + \omega^2 y = 0, \quad q = (c + d)/2m, \quad \omega^2 = k/m,
+               \quad y(0) = c/k, \quad y'(0) = -1,
+
+    and the stiffness is ``J = c - k y(h) - d y'(h)``, in closed form: trigonometric
+    (underdamped), hyperbolic (near critical damping), the two exponential modes when the
+    friction dominates (the slow rate ``-omega^2 / (q + s)`` taken without cancellation) and
+    one exponential for a massless tip. ``c -> infinity`` (a stuck tip) gives ``k h + d``.
+    One implicit Euler step of the element, ``(k h + d)(m/h + c)/(m/h + k h + d + c)``,
+    underestimates it for an inertia-dominated tip by ``sin(omega h) (1 + omega^2 h^2) /
+    (omega h)`` (2.1x at the default 0.25 ms): the cause of the belt's period-2 chatter at
+    high rolling speed (docs/tire-core.md).
+    """
+    if not c < 1e300:                             # held like a stuck tip (c -> infinity)
+        return k * h + d
+    if not m > 0.0:
+        cd = c + d
+        if not cd > 0.0:                          # a free massless tip carries nothing
+            return 0.0
+        return c * (d - c * math.expm1(-k * h / cd)) / cd
+    q = (c + d) / (2.0 * m)
+    w2 = k / m
+    w = math.sqrt(w2)
+    if q < w:                                     # underdamped
+        Om = math.sqrt((w - q) * (w + q))
+        C = math.cos(Om * h)
+        S = math.sin(Om * h) / Om
+    else:
+        r = w / q
+        s = q * math.sqrt((1.0 - r) * (1.0 + r))
+        if s > 0.5 * q:                           # friction-dominated: two real modes
+            l1 = -w2 / (q + s)
+            l2 = -(q + s)
+            e1 = math.exp(l1 * h)
+            e2 = math.exp(l2 * h)
+            dA = -(k + l1 * c) / (2.0 * s)        # k y = (c + dA) e1 - dA e2
+            A = (c + dA) / k
+            B = -dA / k
+            return -c * math.expm1(l1 * h) - dA * (e1 - e2) - d * (l1 * A * e1 + l2 * B * e2)
+        C = math.cosh(s * h)                      # near critical damping
+        S = math.sinh(s * h) / s if s > 0.0 else h
+    e = math.exp(-q * h)
+    return c - e * ((c - d) * C + ((c * c + d * d) / (2.0 * m) - k) * S)
+
+
 def vertical_stiffness(p) -> float:
     """Vertical stiffness at the inflation pressure [N/m] (MF 6.2; Pacejka 2012, sec. 4.3.2)."""
     return p.C_z * (1.0 + p.p_fz1 * ((p.p_inflation - p.p_nom) / p.p_nom))
@@ -800,6 +862,42 @@ def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float
         hi, ghi = x, gx
     o[7] = steps
     return o
+
+
+def belt_gain(p, V_r: float, a: float, b: float, h: float) -> float:
+    """Upper bound of the loop gain of the belt's lateral translation and yaw through the
+    rolling speed over an outer step ``h`` (``belt_gain`` of the core; docs/tire-core.md,
+    "belt coupling at high rolling speed"): ``(V_r h)^2 J^2 / ((k_cy h + d_cy + J)(k_psi h +
+    d_psi + S2))`` with ``J = (k_y h + d_y) 2 a b`` and ``S2 = (k_y h + d_y) 2 a^3 b / 3``,
+    the stiffness of a stuck patch against the belt and its second moment."""
+    kd = p.k_y * h + p.d_y
+    J = kd * (2.0 * a * b)
+    S2 = kd * ((2.0 * a * a * a * b) / 3.0)
+    vh = V_r * h
+    return (vh * vh) * (J * J) / ((p.kc_y * h + p.dc_y + J) * (p.kc_psi * h + p.dc_psi + S2))
+
+
+def outer_step(p, V_r: float, a: float, b: float) -> float:
+    """Longest outer step [s] at rolling speed ``V_r`` [m/s] and patch ``a``, ``b`` [m]
+    (``outer_step`` of the core): ``dt_internal``, shortened to resolve the tread tip's period
+    (:data:`TIP_STEP`) and to keep :func:`belt_gain` at most :data:`BELT_GAIN_MAX` (the
+    largest such step, by bisection)."""
+    h = p.dt_internal
+    if p.mass > 0.0:
+        kmax = p.k_x if p.k_x > p.k_y else p.k_y
+        ht = TIP_STEP / math.sqrt(kmax / p.mass)
+        if ht < h:
+            h = ht
+    if p.rigid or not (a > 0.0 and b > 0.0) or not belt_gain(p, V_r, a, b, h) > BELT_GAIN_MAX:
+        return h
+    lo, hi = 0.0, h
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if belt_gain(p, V_r, a, b, mid) > BELT_GAIN_MAX:
+            hi = mid
+        else:
+            lo = mid
+    return lo
 
 
 class RefTire:
@@ -949,11 +1047,13 @@ class RefTire:
                    for i in range(self.L)]
 
     def _tread_stiffness(self, c: Ctx, h: float) -> tuple[float, float, float, float]:
+        """Stiffness of the tread against the belt over the outer step ``h`` and its first and
+        second moments about the patch centre (``tread_stiffness`` of the core):
+        :func:`element_stiffness` per element, ``k h + d`` for a stuck one."""
         p = self.p
         jx = jy = s1 = s2 = 0.0
         kdx = p.k_x * h + p.d_x
         kdy = p.k_y * h + p.d_y
-        mdt = p.mass / h
         t = c.t
         for i, e in enumerate(self.el):
             if e[6] == 0.0:
@@ -987,12 +1087,14 @@ class RefTire:
             S.iso = True
             S.resid(V)
             cs = S.P / V
-            rx = (mdt + cs) / (mdt + kdx + cs)
-            ry = (mdt + cs) / (mdt + kdy + cs)
-            jx += kdx * rx
-            jy += kdy * ry
-            s1 += x * (kdy * ry)
-            s2 += x * (x * (kdy * ry))
+            if not cs > 0.0:                      # no friction (or a negative table value)
+                cs = 0.0
+            ex = element_stiffness(p.k_x, p.d_x, p.mass, cs, h)
+            ey = element_stiffness(p.k_y, p.d_y, p.mass, cs, h)
+            jx += ex
+            jy += ey
+            s1 += x * ey
+            s2 += x * (x * ey)
         return jx, jy, s1, s2
 
     def _advance(self, h, Vsx, Vsy, V_r, Fz, a, b, Ts, mus, wc, q_roll, d_water,
@@ -1161,9 +1263,6 @@ class RefTire:
         if 0.0 < dt < DT_FLOOR:
             self.time += dt
         elif dt > 0.0:
-            ns = math.ceil(dt / p.dt_internal - 1e-9)
-            n_sub = int(ns) if ns > 1.0 else 1
-            h = dt / n_sub
             if Fz < 0.0:
                 Fz = 0.0
             V_r = omega * p.R_e
@@ -1182,6 +1281,10 @@ class RefTire:
                     rv = 1.0
                 Fz_road = (1.0 - sd * rv) * Fz
             a, b = patch_size(p, Fz_road)
+            # equal outer steps no longer than dt_internal and the coupling's limits
+            ns = math.ceil(dt / outer_step(p, V_r, a, b) - 1e-9)
+            n_sub = int(ns) if ns > 1.0 else 1
+            h = dt / n_sub
             if wet is not None and a > 0.0:   # drainage time: drain_scale t_footprint
                 lt_drain = (math.log10(wet.drain_scale * (2.0 * a / abs(V_r))) if V_r != 0.0
                             else math.inf)

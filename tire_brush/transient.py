@@ -92,7 +92,8 @@ class TransientBrushTire:
     n_elements
         Elements on the patch at the nominal load ``params.Fz_nom``.
     dt_internal
-        Longest outer step [s] (belt coupling and lattice transport).
+        Longest outer step [s] (belt coupling and lattice transport); the core takes shorter
+        ones where the belt coupling needs them (:func:`tire_brush.element.outer_step`).
     thermal
         Carry the tread temperature; default ``params.thermal.enabled``.
     rigid_carcass

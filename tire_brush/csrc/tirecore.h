@@ -79,7 +79,8 @@ typedef struct {
     double heat_capacity, conductance, heat_fraction;
     /* discretisation */
     int n_elements;     /* elements on the patch at Fz_nom */
-    double dt_internal; /* longest outer (belt and lattice) step [s] */
+    double dt_internal; /* longest outer (belt and lattice) step [s]; shorter where the belt
+                         * coupling needs it (docs/tire-core.md) */
     double tol;         /* local error tolerance of the element integration [1] */
     double v_floor;     /* speed floor of the reported slips [m/s] */
 } tf_params;
