@@ -24,6 +24,8 @@ from tire_brush.transient import TransientBrushTire
 #: The repro of the runaway: 37.09 m/s forward, 150 m/s sideways, 1000 rad/s, 7320 N, 268 K,
 #: mu_scale 0.05 (inputs in TransientBrushTire.step order).
 EDGE = (37.09, 150.0, 1000.0, 7320.0, 268.0, 0.05)
+#: Braking at 5 % slip, 20 m/s, 4 kN, 20 C (outside the brush's stick-slip regimes).
+BENIGN_BRAKING = (20.0, 0.0, 20.0 * 0.95 / 0.31, 4000.0, 293.15, 1.0)
 
 
 @pytest.fixture(scope="module")
@@ -151,3 +153,23 @@ def test_soft_belt_takes_shorter_outer_steps(tire, grid) -> None:
     quiet. Without the cut it chattered (1e4 x the road force in 0.12 s)."""
     soft = _carcass(tire, k_y=5e4, d_y=20.0, k_psi=800.0, d_psi=0.2)
     assert _chatter(soft, grid, 2.5e-4, 700.0, 150.0, 7320.0, 0.05) < 0.3
+
+
+# -- outputs bounded by what they measure ------------------------------------------------------
+@pytest.mark.parametrize("Fz_low", [1e-300, 5e-324, 1e-3])
+def test_utilised_friction_stays_bounded_as_the_load_vanishes(tire, grid, Fz_low) -> None:
+    """Short host steps (0.1 ms, below the 0.25 ms output window) while the load drops from
+    4 kN to almost nothing: mu_eff stays within mu_scale max(mu) (the friction bounds the
+    impulse of every step; 1.3 bounds both branches of this grid). It was the relaxed force
+    over the step's load: 1e303 at 1e-300 N and inf (a non-finite output) at a subnormal
+    load, which the FMU fuzz hit."""
+    mu_max = float(np.max([grid.variables[k] for k in ("mu_cold", "mu_hot")]))
+    assert mu_max < 1.3
+    tr = TransientBrushTire(tire, grid, thermal=False)
+    for _ in range(100):
+        tr.step(1e-3, *BENIGN_BRAKING)
+    u = list(BENIGN_BRAKING)
+    for k in range(20):
+        u[3] = Fz_low if k >= 5 else 4000.0
+        o = tr.step(1e-4, *u)
+        assert 0.0 <= o.mu_eff <= mu_max * u[5], f"step {k}: mu_eff = {o.mu_eff}"

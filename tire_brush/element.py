@@ -1317,11 +1317,15 @@ class RefTire:
             W = p.dt_internal
             if dt >= W:
                 o[0], o[1], o[2] = Ix / dt, Iy / dt, Im / dt
+                o[5] = _norm2(o[0], o[1]) / Fz if Fz > 0.0 else 0.0
             else:
                 o[0] += (Ix - dt * o[0]) / W
                 o[1] += (Iy - dt * o[1]) / W
                 o[2] += (Im - dt * o[2]) / W
-            o[5] = _norm2(o[0], o[1]) / Fz if Fz > 0.0 else 0.0
+                # the utilised friction relaxes the same way, towards the step's own
+                # |I| / (dt Fz) (at most mu_scale max(mu)): the relaxed force over the step's
+                # load would be unbounded as the load drops to 0
+                o[5] = o[5] + (_norm2(Ix, Iy) / Fz - dt * o[5]) / W if Fz > 0.0 else 0.0
             if fin[0] == 0.0:
                 o[6] = o[7] = o[8] = 0.0
             else:

@@ -1519,12 +1519,16 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
             o[0] = Ix / dt;
             o[1] = Iy / dt;
             o[2] = Im / dt;
+            o[5] = Fz > 0.0 ? norm2(o[0], o[1]) / Fz : 0.0;
         } else {
             o[0] += (Ix - dt * o[0]) / W;
             o[1] += (Iy - dt * o[1]) / W;
             o[2] += (Im - dt * o[2]) / W;
+            /* the utilised friction relaxes the same way, towards the step's own |I| / (dt Fz)
+             * (at most mu_scale max(mu): the friction on every element is): the relaxed force
+             * over the step's load would be unbounded as the load drops to 0 */
+            o[5] = Fz > 0.0 ? o[5] + (norm2(Ix, Iy) / Fz - dt * o[5]) / W : 0.0;
         }
-        o[5] = Fz > 0.0 ? norm2(o[0], o[1]) / Fz : 0.0;
         if (fin[0] == 0.0) {
             o[6] = 0.0; o[7] = 0.0; o[8] = 0.0;
         } else {
