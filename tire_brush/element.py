@@ -89,6 +89,13 @@ TIP_STEP = 1.4
 #: Largest loop gain of the belt's lateral-yaw coupling through the rolling speed over an outer
 #: step (:func:`belt_gain`; ``BELT_GAIN_MAX`` of the core).
 BELT_GAIN_MAX = 0.5
+#: Work budget of an outer step: element sub-step attempts per element of the nominal patch
+#: (``TF_BUDGET``; docs/tire-core.md, "work budget").
+BUDGET = 24
+#: Flags of a step (``TF_FLAG_*``): an outer step's work budget was spent; the friction was
+#: read at a temperature outside the table's temperature axis.
+FLAG_BUDGET = 1
+FLAG_T_RANGE = 2
 #: Relative margin of the bounds of the node walk (tirecore.c, WALK_MARGIN): a node skipped as
 #: "R < 0" (or "R >= 0") has |R| > 1e-7, far above the rounding of its evaluation.
 WALK_MARGIN = 1e-6
@@ -345,7 +352,7 @@ class Ctx:
     """Constants of one outer step (``tf_ctx`` of the core)."""
 
     __slots__ = ("Vbx", "Vby", "Vr", "c_flat", "dx", "dy", "fT", "iT", "inv_ac", "inv_void",
-                 "kx", "ky", "m", "mu_scale", "p_amp", "t", "tol_abs", "wpsi", "zx", "zy")
+                 "kx", "ky", "m", "mu_scale", "p_amp", "t", "tol_abs", "w", "wpsi", "zx", "zy")
 
     def __init__(self, p, t: RefTable, T: float, Fz: float, a: float, b: float, c_flat: float,
                  p_amp: float, mu_scale: float, Vbx: float, Vby: float, Vr: float) -> None:
@@ -362,6 +369,9 @@ class Ctx:
         self.tol_abs = p.tol * (0.5 * Fz / (a * b))
         self.zx = math.sqrt(p.k_x * p.mass) + p.d_x
         self.zy = math.sqrt(p.k_y * p.mass) + p.d_y
+        #: the outer step's work ``[attempts left, stage solves, fallbacks]`` (``tf_work`` of
+        #: the core; docs/tire-core.md, "work budget"), or None: no budget
+        self.w: list[float] | None = None
 
     def pressure(self, x: float) -> float:
         """Gross pressure [Pa] at position ``x`` [m]: flat centre, parabolic ends."""
@@ -597,10 +607,31 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
     o2 = (0.0, 0.0, 0.0, 0.0, 0.0, _norm2(wx, wy), 0.0,
           _cold_weight(s * c.t.inv_s0) if c.t.inv_s0 > 0.0 else 1.0, 0.0, 0.0, 0.0)
     p2 = c.pressure(x_end)
+    w = c.w
     while h_e - t > 1e-12 * h_e:
         rest = h_e - t
         cut = Hn >= rest
         H = rest if cut else Hn
+        if w is not None and not w[0] > 0.0:
+            # the outer step's budget is spent: the rest of the element's time in one implicit
+            # Euler stage (L-stable: it lands on the stuck or sliding equilibrium of the end of
+            # the step, whatever its length)
+            pe = c.pressure(x_end)
+            vbe = c.Vby + x_end * c.wpsi
+            o2 = stage(c, rest, pe, vbe, ux, uy, wx, wy, s, _norm2(wx, wy))
+            ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
+            energy += rest * (o2[6] * o2[5])
+            Jx += rest * o2[9]
+            Jy += rest * o2[10]
+            Jm += rest * (x_end * o2[10])
+            Jt += rest * (x_end * (c.ky * o2[1] + c.dy * (o2[3] - vbe)))
+            steps += 1.0
+            w[1] += 1.0
+            w[2] += 1.0
+            p2 = pe
+            break
+        if w is not None:
+            w[0] -= 1.0
         if H <= H_MIN:
             # event step: at the smallest step a stick-slip event (a snap, instantaneous for a
             # massless tip) is taken with one implicit Euler stage, which lands on the new
@@ -609,6 +640,8 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             pe = c.pressure(xe)
             vbe = c.Vby + xe * c.wpsi
             o2 = stage(c, H, pe, vbe, ux, uy, wx, wy, s, _norm2(wx, wy))
+            if w is not None:
+                w[1] += 1.0
             ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
             energy += H * (o2[6] * o2[5])
             Jx += H * o2[9]
@@ -634,6 +667,8 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
         pe = c.pressure(xe)
         vbe = c.Vby + xe * c.wpsi
         o2 = stage(c, Hs, pe, vbe, Zux, Zuy, Zwx, Zwy, Zs, o1[5])
+        if w is not None:
+            w[1] += 2.0
         err = abs(o2[0] - (ux + (o1[0] - ux) * ig)) * c.kx
         ey = abs(o2[1] - (uy + (o1[1] - uy) * ig)) * c.ky
         evx = abs(o2[2] - (wx + (o1[2] - wx) * ig)) * c.zx
@@ -919,6 +954,9 @@ class RefTire:
         self.dx = 2.0 * a_nom / p.n_elements
         self.L = math.ceil(2.0 * self.a_max / self.dx) + 2
         self.work = 0.0
+        self.stages = 0.0
+        self.fallbacks = 0.0
+        self.flags = 0
         self.rr: RefTable | None = None
         self.wet: RefWet | None = None
         self.texture_depth = 0.0
@@ -1025,6 +1063,7 @@ class RefTire:
         self.T_tread = T_tread
         self.time = 0.0
         self.out = [0.0] * N_OUT
+        self.flags = 0
 
     def get_state(self) -> list[float]:
         """State vector in the core's layout."""
@@ -1162,6 +1201,12 @@ class RefTire:
             return [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
         c = Ctx(p, self._step_table(T0, d_water, lt_drain), T0, Fz, a, b, cf,
                 Fz / (area * wsum), mus, Vsx, Vsy, V_r)
+        # the friction is read at T0: outside the table's temperature axis it is its edge's
+        Tax = self.t.ax[1]
+        if not (Tax[0] <= T0 <= Tax[-1]):
+            self.flags |= FLAG_T_RANGE
+        w = [float(BUDGET) * p.n_elements, 0.0, 0.0]
+        c.w = w
         Vbx, Vby, wpsi = Vsx, Vsy, 0.0
         if not p.rigid:
             # belt translation and yaw, linearly implicit (docs/tire-core.md, "belt"): the
@@ -1239,6 +1284,10 @@ class RefTire:
                 d = dT * (1.0 - E)
                 if d > dTm:
                     dTm = d
+        self.stages += w[1]
+        self.fallbacks += w[2]
+        if w[2] > 0.0:
+            self.flags |= FLAG_BUDGET
         self.Vb = [Vbx, Vby]
         self.wpsi = wpsi
         self.wc = wc
@@ -1260,6 +1309,7 @@ class RefTire:
         p = self.p
         if math.isnan(self.T_tread):
             self.T_tread = Ts
+        self.flags = 0
         if 0.0 < dt < DT_FLOOR:
             self.time += dt
         elif dt > 0.0:

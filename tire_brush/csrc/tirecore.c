@@ -68,6 +68,8 @@ struct tf_tire {
     int wvalid;
     double out[TF_NOUT];
     double work;
+    double stages, fallbacks;  /* stage solves and budget fallbacks since creation */
+    int flags;                 /* TF_FLAG_* of the last step */
 };
 
 /* ---------------------------------------------------------------- table ---------------- */
@@ -297,6 +299,13 @@ static double node_bound(const tf_table *t, const double *arr, const tf_tp *q, i
 
 /* ---------------------------------------------------------------- one stage ------------ */
 
+/* Work of one outer step (docs/tire-core.md, "work budget"): the element sub-step attempts
+ * (SDIRK steps, accepted or not, and event steps) it may still take, the stage solves and
+ * the implicit Euler stages that finished elements once the budget was spent. */
+typedef struct {
+    double left, stages, fallbacks;
+} tf_work;
+
 /* Context of one outer step (constant over it). */
 typedef struct {
     const tf_table *t;
@@ -310,6 +319,7 @@ typedef struct {
                                       t = (|x| - c_flat) / (a - c_flat) */
     double tol_abs;            /* stress tolerance [Pa] */
     double zx, zy;             /* velocity-error weights sqrt(k m) + d [N s/m^3] */
+    tf_work *w;                /* the outer step's work budget and counts (NULL: none) */
 } tf_ctx;
 
 /* The friction root problem of one stage (docs/tire-core.md, "stage solve"). */
@@ -658,6 +668,26 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
         double rest = h_e - t;
         int cut = Hn >= rest;
         double H = cut ? rest : Hn;
+        if (c->w && !(c->w->left > 0.0)) {
+            /* the outer step's budget is spent: the rest of the element's time in one
+             * implicit Euler stage (L-stable: it lands on the stuck or sliding equilibrium
+             * of the end of the step, whatever its length) */
+            double pe = pressure(c, x_end);
+            double vbe = c->Vby + x_end * c->wpsi;
+            stage(c, rest, pe, vbe, ux, uy, wx, wy, s, norm2(wx, wy), &o2);
+            ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
+            energy += rest * (o2.P * o2.V);
+            Jx += rest * o2.fx;
+            Jy += rest * o2.fy;
+            Jm += rest * (x_end * o2.fy);
+            Jt += rest * (x_end * (c->ky * o2.uy + c->dy * (o2.wy - vbe)));
+            steps += 1.0;
+            c->w->stages += 1.0;
+            c->w->fallbacks += 1.0;
+            p2 = pe;
+            break;
+        }
+        if (c->w) c->w->left -= 1.0;
         if (H <= H_MIN) {
             /* event step: at the smallest step a stick-slip event (a snap, instantaneous for
              * a massless tip) is taken with one implicit Euler stage, which lands on the new
@@ -666,6 +696,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
             double pe = pressure(c, xe);
             double vbe = c->Vby + xe * c->wpsi;
             stage(c, H, pe, vbe, ux, uy, wx, wy, s, norm2(wx, wy), &o2);
+            if (c->w) c->w->stages += 1.0;
             ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
             energy += H * (o2.P * o2.V);
             Jx += H * o2.fx;
@@ -690,6 +721,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
         double pe = pressure(c, xe);
         double vbe = c->Vby + xe * c->wpsi;
         stage(c, Hs, pe, vbe, Zux, Zuy, Zwx, Zwy, Zs, o1.V, &o2);
+        if (c->w) c->w->stages += 2.0;
         double ex = fabs(o2.ux - (ux + (o1.ux - ux) * ig)) * c->kx;
         double ey = fabs(o2.uy - (uy + (o1.uy - uy) * ig)) * c->ky;
         double evx = fabs(o2.wx - (wx + (o1.wx - wx) * ig)) * c->zx;
@@ -785,6 +817,7 @@ static void ctx_init(tf_ctx *c, const tf_params *p, const tf_table *t, double T,
     c->tol_abs = p->tol * (0.5 * Fz / (a * b));
     c->zx = sqrt(p->k_x * p->mass) + p->d_x;
     c->zy = sqrt(p->k_y * p->mass) + p->d_y;
+    c->w = NULL;
 }
 
 static int params_ok(const tf_params *p) {
@@ -967,6 +1000,7 @@ void tf_tire_reset(tf_tire *tire, double T_tread) {
     tire->psi = tire->wpsi = tire->M = tire->wc = 0.0;
     tire->T_tread = T_tread;
     tire->time = 0.0;
+    tire->flags = 0;
     for (int k = 0; k < TF_NOUT; k++) tire->out[k] = 0.0;
 }
 
@@ -1058,6 +1092,14 @@ int tf_tire_lattice(const tf_tire *tire) { return tire->L; }
 int tf_tire_state_size(const tf_tire *tire) { return STATE_HEAD + TF_ELEM * tire->L; }
 
 double tf_tire_work(const tf_tire *tire) { return tire->work; }
+
+void tf_tire_counters(const tf_tire *tire, double *out) {
+    out[0] = tire->work;
+    out[1] = tire->stages;
+    out[2] = tire->fallbacks;
+}
+
+int tf_tire_flags(const tf_tire *tire) { return tire->flags; }
 
 void tf_tire_get_state(const tf_tire *tire, double *buf) {
     buf[0] = TF_VERSION;
@@ -1281,6 +1323,11 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     tf_ctx c;
     ctx_init(&c, p, step_table(tire, T0, d_water, lt_drain), T0, Fz, a, b, cf,
              Fz / (area * wsum), mu_scale, Vsx, Vsy, V_r);
+    /* the friction is read at T0: outside the table's temperature axis it is its edge's */
+    const double *Tax = tire->t->ax[1];
+    if (!(T0 >= Tax[0] && T0 <= Tax[tire->t->n[1] - 1])) tire->flags |= TF_FLAG_T_RANGE;
+    tf_work w = {(double)TF_BUDGET * p->n_elements, 0.0, 0.0};
+    c.w = &w;
     double Vbx = Vsx, Vby = Vsy, wpsi = 0.0;
     if (!p->rigid) {
         /* belt translation and yaw, linearly implicit (docs/tire-core.md, "belt"): the
@@ -1368,6 +1415,9 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
             if (dT > dTm) dTm = dT;
         }
     }
+    tire->stages += w.stages;
+    tire->fallbacks += w.fallbacks;
+    if (w.fallbacks > 0.0) tire->flags |= TF_FLAG_BUDGET;
     tire->Vb[0] = Vbx;
     tire->Vb[1] = Vby;
     tire->wpsi = wpsi;
@@ -1461,6 +1511,7 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         return -1;
     const tf_params *p = &tire->p;
     if (isnan(tire->T_tread)) tire->T_tread = Ts;
+    tire->flags = 0;
     if (dt > 0.0 && dt < TF_DT_FLOOR) {
         tire->time += dt;
     } else if (dt > 0.0) {
