@@ -127,7 +127,7 @@ int main(int argc, char **argv) {
         for (int j = 0; j < 12; j++)
             if (!isfinite(y[j])) FAIL("output %d = %g not finite", j, y[j]);
         fmi2Integer status;
-        if (fmi2GetInteger(c[i], &vstatus, 1, &status) || status < 0 || status > 1023)
+        if (fmi2GetInteger(c[i], &vstatus, 1, &status) || status < 0 || status > 4095)
             FAIL("input_status %d", (int)status);
         uint64_t r = next() % 1000;
         int s = (int)(next() % NS);
