@@ -79,6 +79,21 @@ def test_element_stiffness_is_the_linear_response(tire, c) -> None:
         c * (t.d_y + c * (1.0 - math.exp(-t.k_y * h / cd))) / cd, rel=1e-12)
 
 
+def test_element_stiffness_at_its_limits(tire) -> None:
+    """A tip whose mass the friction dwarfs (q = (c + d)/2m beyond 1e300) is the massless
+    one, and a friction beyond 1e300 holds the tip like a stuck one, k h + d (the forms are
+    continuous there to rounding: 1e-12 relative)."""
+    from tire_brush.element import element_stiffness
+
+    t, h = tire.tread, 2.5e-4
+    assert element_stiffness(t.k_y, t.d_y, 1e-300, 1e5, h) == \
+        element_stiffness(t.k_y, t.d_y, 0.0, 1e5, h)
+    stuck = t.k_y * h + t.d_y
+    assert element_stiffness(t.k_y, t.d_y, t.mass, 1e299, h) == pytest.approx(stuck, rel=1e-12)
+    assert element_stiffness(t.k_y, t.d_y, 0.0, 1e299, h) == pytest.approx(stuck, rel=1e-12)
+    assert element_stiffness(t.k_y, 0.0, 0.0, 0.0, h) == 0.0
+
+
 def test_one_implicit_euler_step_underestimates_an_inertial_tip(tire) -> None:
     """The old estimate of a sliding element's stiffness, one implicit Euler step
     (k h + d)(m/h + c)/(m/h + k h + d + c), is 1.8x too small for a tip that inertia holds

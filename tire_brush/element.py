@@ -721,7 +721,8 @@ def element_stiffness(k: float, d: float, m: float, c: float, h: float) -> float
     and the stiffness is ``J = c - k y(h) - d y'(h)``, in closed form: trigonometric
     (underdamped), hyperbolic (near critical damping), the two exponential modes when the
     friction dominates (the slow rate ``-omega^2 / (q + s)`` taken without cancellation) and
-    one exponential for a massless tip. ``c -> infinity`` (a stuck tip) gives ``k h + d``.
+    one exponential for a massless tip or one whose mass the damping and friction dwarf
+    (``q`` beyond 1e300). ``c -> infinity`` (a stuck tip) gives ``k h + d``.
     One implicit Euler step of the element, ``(k h + d)(m/h + c)/(m/h + k h + d + c)``,
     underestimates it for an inertia-dominated tip by ``sin(omega h) (1 + omega^2 h^2) /
     (omega h)`` (2.1x at the default 0.25 ms): the cause of the belt's period-2 chatter at
@@ -729,12 +730,12 @@ def element_stiffness(k: float, d: float, m: float, c: float, h: float) -> float
     """
     if not c < 1e300:                             # held like a stuck tip (c -> infinity)
         return k * h + d
-    if not m > 0.0:
+    q = (c + d) / (2.0 * m) if m > 0.0 else math.inf
+    if not q < 1e300:                             # massless, or the mass negligible
         cd = c + d
         if not cd > 0.0:                          # a free massless tip carries nothing
             return 0.0
         return c * (d - c * math.expm1(-k * h / cd)) / cd
-    q = (c + d) / (2.0 * m)
     w2 = k / m
     w = math.sqrt(w2)
     if q < w:                                     # underdamped

@@ -1152,15 +1152,17 @@ int tf_tire_set_state(tf_tire *tire, const double *buf) {
  * stiffness is J = c - k y(h) - d y'(h): closed forms for the under- and overdamped cases
  * (trigonometric, hyperbolic, and the two exponential modes when the friction dominates, where
  * the slow mode's rate -w^2 / (q + s) is taken without cancellation), and for a massless tip
- * (one exponential). c -> infinity gives the stuck element's k h + d. */
+ * or one whose mass the damping and friction dwarf (q beyond 1e300: one exponential).
+ * c -> infinity gives the stuck element's k h + d. */
 static double element_stiffness(double k, double d, double m, double c, double h) {
     if (!(c < 1e300)) return k * h + d;        /* held like a stuck tip (the limit c -> inf) */
-    if (!(m > 0.0)) {
+    double q = m > 0.0 ? (c + d) / (2.0 * m) : INFINITY;
+    if (!(q < 1e300)) {                        /* massless, or the mass negligible */
         double cd = c + d;
         if (!(cd > 0.0)) return 0.0;           /* a free massless tip carries nothing */
         return c * (d - c * expm1(-k * h / cd)) / cd;
     }
-    double q = (c + d) / (2.0 * m), w2 = k / m, w = sqrt(w2);
+    double w2 = k / m, w = sqrt(w2);
     double C, S;
     if (q < w) {                               /* underdamped */
         double Om = sqrt((w - q) * (w + q));

@@ -119,8 +119,9 @@ TF_API void tf_tire_free(tf_tire *tire);
 TF_API void tf_tire_reset(tf_tire *tire, double T_tread);
 /* Advance by dt [s] with the TF_NIN inputs held (dt < TF_DT_FLOOR: only the clock advances).
  * Writes TF_NOUT outputs. Returns 0, or -1 for inputs it refuses (non-finite, dt < 0,
- * T_surface <= 0, mu_scale < 0, |gamma| >= pi/2, water_depth < 0), leaving the state
- * unchanged. */
+ * T_surface <= 0, mu_scale < 0, |gamma| >= pi/2, water_depth < 0, a step of more outer steps
+ * than an int counts), leaving the state unchanged. The work of each outer step is bounded
+ * (TF_BUDGET); tf_tire_flags says what the step reported. */
 TF_API int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out);
 /* Rolling resistance (optional; NULL removes it): a table on (log10 |V_r| [m/s], T_tread [K],
  * log10 Fz [N]) whose node values are (f_r, tread_share, unused): the coefficient F_r / Fz
