@@ -143,7 +143,9 @@ def _heat_above_work(d: FmuDriver, u: list[float], dt: float, before: np.ndarray
     W_rim = -(I_x V_sx + I_y V_sy) from the step's friction impulse I (the outputs' mean over
     the step, or recovered from their relaxation for a step shorter than dt_internal;
     docs/tire-core.md, "short steps"). 0 for steps with non-finite inputs (held values the host
-    does not know after a rollback) or that did not advance."""
+    does not know after a rollback) or that did not advance. The rise is counted from the
+    step's T_surface when that is higher: a tread whose temperature is not set yet starts
+    there (a fresh or reset instance)."""
     if not (math.isfinite(dt) and dt >= 1e-9) or not all(map(math.isfinite, u)):
         return 0.0
     p = d.start_values_read
@@ -155,7 +157,10 @@ def _heat_above_work(d: FmuDriver, u: list[float], dt: float, before: np.ndarray
     impulse = F_new * dt if dt >= W else W * (F_new - F_old) + dt * F_old
     work = -(impulse[0] * (vx - omega * p["tire.R_e"]) + impulse[1] * vy)
     rolling = abs(after[ix("My")] * omega) * dt
-    rise = after[ix("T_tread")] - before[ix("T_tread")]
+    # a tread whose temperature is not set yet (a fresh or reset instance, or a rollback to
+    # one) starts the step at its T_surface
+    T_surface = min(max(u[4], p["limit.T_min"]), p["limit.T_max"])
+    rise = after[ix("T_tread")] - max(before[ix("T_tread")], T_surface)
     allowed = p["tire.thermal.heat_fraction"] * (max(work, 0.0) + rolling) / \
         p["tire.thermal.heat_capacity"]
     # 2 K: the tread's stored elastic energy released into the friction within one step
@@ -182,8 +187,8 @@ def fuzz_one(fmu, unzipdir, seed: int, n: int, *, wet: bool = False,
     start = {"tire.thermal.enabled": thermal}
     d = FmuDriver(fmu, unzipdir, f"fuzz{seed}", logging=False, start_values=start)
     d.start_values_read = {k: float(d.fmu.getReal([d.vr[k]])[0])
-                           for k in ("limit.v", "limit.omega", "dt_internal", "tire.R_e",
-                                     "tire.thermal.heat_fraction",
+                           for k in ("limit.v", "limit.omega", "limit.T_min", "limit.T_max",
+                                     "dt_internal", "tire.R_e", "tire.thermal.heat_fraction",
                                      "tire.thermal.heat_capacity")}
     saved: list = []
     counts: dict[str, float] = {"non_finite": 0, "discarded_or_error": 0, "rollbacks": 0,
