@@ -15,7 +15,7 @@ the recovery (a hot tread legitimately remembers the history); with it on, the t
 take no more heat in a step than the rim's work against the road
 (:func:`_heat_above_work`). The steady inputs brake at 5 % slip at 20 m/s and 4 kN: outside
 the stick-slip and two-branch regimes of the brush (docs/tire-core.md, "Limits"), where a
-fresh instance is not unique either.
+fresh instance is not unique either (on the wet build's compound, :data:`STEADY_WET`).
 
 CPU bound of a doStep (a hang is any step above it): 50 ms plus 5 ms per outer step. The core
 bounds an outer step's work (docs/tire-core.md, "work budget": 1595 stage solves for the
@@ -50,6 +50,10 @@ from fmu_support import (
 
 FZ, VX, R_E = 4000.0, 20.0, 0.31
 STEADY = [VX, 0.0, VX * 0.95 / R_E, FZ, 293.15, 1.0, 0.0, 0.0]
+#: The steady inputs of the wet build: its compound (the wet reference road's grid) stick-slips
+#: at STEADY (Fx by 4 % of Fz from one ms to the next, mu_slide by 0.4, fresh instances
+#: included); at 30 C with a slip angle of 0.02 rad as well it is quiet (0.2 % of Fz).
+STEADY_WET = [VX, -VX * math.tan(0.02), VX * 0.95 / R_E, FZ, 303.15, 1.0, 0.0, 0.0]
 START = {"tire.thermal.enabled": False}
 FATAL = 4
 #: Shortest outer step of the shipped tire within the FMU's envelope [s] (docs/tire-core.md,
@@ -168,8 +172,8 @@ def _heat_above_work(d: FmuDriver, u: list[float], dt: float, before: np.ndarray
     return max(rise - allowed - 2.0, 0.0)
 
 
-def _steady(d: FmuDriver, seconds: float = 1.0) -> np.ndarray:
-    d.fmu.setReal(d._vin, STEADY)
+def _steady(d: FmuDriver, seconds: float = 1.0, u: list[float] = STEADY) -> np.ndarray:
+    d.fmu.setReal(d._vin, u)
     out = []
     for _ in range(round(seconds / 1e-3)):
         _status(d, 1e-3)
@@ -234,9 +238,10 @@ def fuzz_one(fmu, unzipdir, seed: int, n: int, *, wet: bool = False,
     q = np.quantile(cpu, [0.5, 0.99, 1.0])
     counts.update(cpu_median=float(q[0]), cpu_p99=float(q[1]), cpu_max=float(q[2]))
     if not thermal:
-        hit = _steady(d)
+        steady = STEADY_WET if wet else STEADY
+        hit = _steady(d, u=steady)
         fresh = FmuDriver(fmu, unzipdir, f"fresh{seed}", logging=False, start_values=start)
-        ref = _steady(fresh)
+        ref = _steady(fresh, u=steady)
         late = hit[len(hit) // 2:, :2]
         settled = np.abs(np.diff(late, axis=0)).max() < 0.01 * FZ
         err = np.abs(hit[-50:].mean(axis=0) - ref[-50:].mean(axis=0))
