@@ -151,6 +151,37 @@ def slave_outputs(resources: Path, u: list[float], n: int, dt: float = 1e-3) -> 
     return np.array(got)
 
 
+#: Non-finite, huge, zero, subnormal and negative values the fuzz puts into the inputs.
+FUZZ_GARBAGE = (math.nan, math.inf, -math.inf, 1e30, -1e30, 1e308, 0.0, -0.0, 5e-324, -4000.0)
+#: Communication steps of the fuzz: mostly 1 ms; tiny, subnormal, zero, odd, negative, NaN,
+#: infinite ones; and long ones up to 0.3 s (a master's long first step, a slow co-simulation).
+FUZZ_STEPS = ((1e-3,) * 24 + (1e-12, 5e-324, 0.0, 2e-4, 3e-3, 1e-7, -1e-3, math.nan, math.inf)
+              + (0.05, 0.1, 0.3))
+
+
+def fuzz_inputs(rng: np.random.Generator, vx: float = 20.0, Fz: float = 4000.0,
+                R_e: float = 0.31, wet: bool = False) -> list[float]:
+    """Adversarial inputs (:data:`INPUTS` order) of the FMU fuzz: braking, cornering and
+    driving around ``vx`` and ``Fz`` with wide scatter, and in 4 % of the inputs a value of
+    :data:`FUZZ_GARBAGE` (which the input guard clamps to the envelope's edges: 150 m/s,
+    1000 rad/s, five times the largest load), in 2 % a zero speed, spin or load. ``wet``:
+    also camber (0.03 rad scatter) and, in a third of the steps, water up to 5 mm."""
+    u = [rng.normal(vx, 15.0), rng.normal(0.0, 3.0), rng.normal(vx / R_e, 40.0),
+         rng.normal(Fz, 3000.0), rng.uniform(240.0, 360.0), rng.uniform(0.0, 1.5), 0.0, 0.0]
+    n = 6
+    if wet:
+        u[6] = rng.normal(0.0, 0.03)
+        u[7] = rng.uniform(0.0, 5e-3) if rng.random() < 1.0 / 3.0 else 0.0
+        n = 8
+    for i in range(n):
+        r = rng.random()
+        if r < 0.04:
+            u[i] = float(rng.choice(FUZZ_GARBAGE))
+        elif r < 0.06:
+            u[i] = 0.0                                  # zero speed, spin, load
+    return [float(x) for x in u]
+
+
 def braking_inputs(n: int, dt: float = 1e-3, seed: int = 5) -> np.ndarray:
     """A manoeuvre of ``n`` steps: rolling at 20 m/s, a braking slip ramp with steer, a load
     change, a temperature change, a low-friction patch and camber; a dry road (rows:

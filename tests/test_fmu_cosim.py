@@ -384,7 +384,9 @@ def test_extreme_inputs_after_lift_off_leave_no_hidden_state(fmu, unzipdir):
     for _ in range(20):
         hit.step([vx, 0.0, vx * 0.9 / R_E, 0.0, 293.15, 1.0, 0.0, 0.0])          # lift-off
     hit.step([-1e30, 1e6, vx * 0.9 / R_E, 1e308, 3e38, -math.inf])  # clamped
-    assert hit.status() == 29, "the guard reports what it clamped"
+    # the guard reports what it clamped; the model that it read the friction at 500 K, above
+    # the grid's 393 K
+    assert hit.status() == 29 | STATUS_BITS["temperature_range"]
     a = np.array([hit.step(braking) for _ in range(500)])
     b = np.array([fresh.step(braking) for _ in range(500)])
     tail = slice(400, 500)

@@ -46,6 +46,8 @@ CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math", "-fPIC", "-s
 API_VERSION = 3
 #: Outputs, element columns and steady columns (``tirecore.h``).
 N_IN, N_OUT, N_ELEM, STEADY_IN, STEADY_OUT = 8, 12, 7, 5, 8
+#: Work counters of a tire (``TF_NCOUNT``): sub-steps, stage solves, budget fallbacks.
+N_COUNT = 3
 
 _lock = threading.Lock()
 _lib: ctypes.CDLL | None = None
@@ -181,6 +183,8 @@ def _declare(lib: ctypes.CDLL) -> None:
         "tf_tire_get_state": (None, [vp, dp]),
         "tf_tire_set_state": (ctypes.c_int, [vp, dp]),
         "tf_tire_work": (ctypes.c_double, [vp]),
+        "tf_tire_flags": (ctypes.c_int, [vp]),
+        "tf_tire_counters": (None, [vp, dp]),
         "tf_tire_set_rolling": (ctypes.c_int, [vp, vp]),
         "tf_wet_new": (vp, [ctypes.c_int] * 5 + [dp] * 4 + [ctypes.c_double] * 2),
         "tf_wet_free": (None, [vp]),

@@ -41,9 +41,11 @@ patch during the step (``p(x(t))``, parabolic).
 The belt (massless, springs ``k_c`` and dampers ``d_c`` to the rim) is coupled linearly
 implicitly: over an outer step ``h`` the tread force is ``F_n - J (V_b - V_{b,n})`` with ``J``
 the tread's stiffness against belt motion over the step, ``(k h + d)`` for a sticking element
-and ``(k h + d)(m/h + c)/(A + c)`` for a sliding one (``c = p mu/|w|``, the secant friction
-stiffness); a steady state (``F_n = k_c delta``, ``V_b = V_s``) is reproduced exactly whatever
-``J``, and every element, sliding or not, stiffens the belt (no period-2 chatter).
+and the exact response of the linearised element for a sliding one
+(:func:`element_stiffness`, with ``c = p mu/|w|`` the secant friction stiffness); a steady
+state (``F_n = k_c delta``, ``V_b = V_s``) is reproduced exactly whatever ``J``. The outer step
+is ``dt_internal``, shortened where the coupling needs it (:func:`outer_step`;
+docs/tire-core.md, "belt coupling at high rolling speed").
 
 This module imports only the standard library: it runs inside an FMU.
 """
@@ -80,6 +82,20 @@ N_OUT = 12
 #: pi / 2: the inclination angle is refused at or beyond it.
 HALF_PI = 1.5707963267948966
 LN10 = 2.302585092994046
+#: Longest outer step in units of ``1 / sqrt(k / m)``, the tread tip's period over 2 pi
+#: (``TIP_STEP`` of the core): the belt coupling holds the belt's velocity over the step while
+#: the tips ring against it (docs/tire-core.md, "belt coupling at high rolling speed").
+TIP_STEP = 1.4
+#: Largest loop gain of the belt's lateral-yaw coupling through the rolling speed over an outer
+#: step (:func:`belt_gain`; ``BELT_GAIN_MAX`` of the core).
+BELT_GAIN_MAX = 0.5
+#: Work budget of an outer step: element sub-step attempts per element of the nominal patch
+#: (``TF_BUDGET``; docs/tire-core.md, "work budget").
+BUDGET = 24
+#: Flags of a step (``TF_FLAG_*``): an outer step's work budget was spent; the friction was
+#: read at a temperature outside the table's temperature axis.
+FLAG_BUDGET = 1
+FLAG_T_RANGE = 2
 #: Relative margin of the bounds of the node walk (tirecore.c, WALK_MARGIN): a node skipped as
 #: "R < 0" (or "R >= 0") has |R| > 1e-7, far above the rounding of its evaluation.
 WALK_MARGIN = 1e-6
@@ -336,7 +352,7 @@ class Ctx:
     """Constants of one outer step (``tf_ctx`` of the core)."""
 
     __slots__ = ("Vbx", "Vby", "Vr", "c_flat", "dx", "dy", "fT", "iT", "inv_ac", "inv_void",
-                 "kx", "ky", "m", "mu_scale", "p_amp", "t", "tol_abs", "wpsi", "zx", "zy")
+                 "kx", "ky", "m", "mu_scale", "p_amp", "t", "tol_abs", "w", "wpsi", "zx", "zy")
 
     def __init__(self, p, t: RefTable, T: float, Fz: float, a: float, b: float, c_flat: float,
                  p_amp: float, mu_scale: float, Vbx: float, Vby: float, Vr: float) -> None:
@@ -353,6 +369,9 @@ class Ctx:
         self.tol_abs = p.tol * (0.5 * Fz / (a * b))
         self.zx = math.sqrt(p.k_x * p.mass) + p.d_x
         self.zy = math.sqrt(p.k_y * p.mass) + p.d_y
+        #: the outer step's work ``[attempts left, stage solves, fallbacks]`` (``tf_work`` of
+        #: the core; docs/tire-core.md, "work budget"), or None: no budget
+        self.w: list[float] | None = None
 
     def pressure(self, x: float) -> float:
         """Gross pressure [Pa] at position ``x`` [m]: flat centre, parabolic ends."""
@@ -588,10 +607,31 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
     o2 = (0.0, 0.0, 0.0, 0.0, 0.0, _norm2(wx, wy), 0.0,
           _cold_weight(s * c.t.inv_s0) if c.t.inv_s0 > 0.0 else 1.0, 0.0, 0.0, 0.0)
     p2 = c.pressure(x_end)
+    w = c.w
     while h_e - t > 1e-12 * h_e:
         rest = h_e - t
         cut = Hn >= rest
         H = rest if cut else Hn
+        if w is not None and not w[0] > 0.0:
+            # the outer step's budget is spent: the rest of the element's time in one implicit
+            # Euler stage (L-stable: it lands on the stuck or sliding equilibrium of the end of
+            # the step, whatever its length)
+            pe = c.pressure(x_end)
+            vbe = c.Vby + x_end * c.wpsi
+            o2 = stage(c, rest, pe, vbe, ux, uy, wx, wy, s, _norm2(wx, wy))
+            ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
+            energy += rest * (o2[6] * o2[5])
+            Jx += rest * o2[9]
+            Jy += rest * o2[10]
+            Jm += rest * (x_end * o2[10])
+            Jt += rest * (x_end * (c.ky * o2[1] + c.dy * (o2[3] - vbe)))
+            steps += 1.0
+            w[1] += 1.0
+            w[2] += 1.0
+            p2 = pe
+            break
+        if w is not None:
+            w[0] -= 1.0
         if H <= H_MIN:
             # event step: at the smallest step a stick-slip event (a snap, instantaneous for a
             # massless tip) is taken with one implicit Euler stage, which lands on the new
@@ -600,6 +640,8 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             pe = c.pressure(xe)
             vbe = c.Vby + xe * c.wpsi
             o2 = stage(c, H, pe, vbe, ux, uy, wx, wy, s, _norm2(wx, wy))
+            if w is not None:
+                w[1] += 1.0
             ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
             energy += H * (o2[6] * o2[5])
             Jx += H * o2[9]
@@ -625,6 +667,8 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
         pe = c.pressure(xe)
         vbe = c.Vby + xe * c.wpsi
         o2 = stage(c, Hs, pe, vbe, Zux, Zuy, Zwx, Zwy, Zs, o1[5])
+        if w is not None:
+            w[1] += 2.0
         err = abs(o2[0] - (ux + (o1[0] - ux) * ig)) * c.kx
         ey = abs(o2[1] - (uy + (o1[1] - uy) * ig)) * c.ky
         evx = abs(o2[2] - (wx + (o1[2] - wx) * ig)) * c.zx
@@ -660,6 +704,60 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
                 Hn = H_MIN
     e[0], e[1], e[2], e[3], e[4], e[5] = ux, uy, wx, wy, s, Hn
     return energy, o2[5], o2[6], o2[7], o2[8], p2, steps, Jx, Jy, Jm, Jt
+
+
+def element_stiffness(k: float, d: float, m: float, c: float, h: float) -> float:
+    r"""Stiffness [N s/m^3] of one tread element against its base over an outer step ``h``
+    (``element_stiffness`` of the core; docs/tire-core.md, "belt").
+
+    The stress the element puts on the belt at the end of the step, per unit step of the base
+    velocity at its start, for the element linearised with the secant friction stiffness
+    ``c = p mu / |w|``: tip mass ``m``, spring ``k``, damper ``d``. With ``y`` the change of
+    the deflection plus ``c / k`` and ``y'`` the relative velocity of tip and base,
+
+    .. math::  y'' + 2 q y' + \omega^2 y = 0, \quad q = (c + d)/2m, \quad \omega^2 = k/m,
+               \quad y(0) = c/k, \quad y'(0) = -1,
+
+    and the stiffness is ``J = c - k y(h) - d y'(h)``, in closed form: trigonometric
+    (underdamped), hyperbolic (near critical damping), the two exponential modes when the
+    friction dominates (the slow rate ``-omega^2 / (q + s)`` taken without cancellation) and
+    one exponential for a massless tip or one whose mass the damping and friction dwarf
+    (``q`` beyond 1e300). ``c -> infinity`` (a stuck tip) gives ``k h + d``.
+    One implicit Euler step of the element, ``(k h + d)(m/h + c)/(m/h + k h + d + c)``,
+    underestimates it for an inertia-dominated tip by ``sin(omega h) (1 + omega^2 h^2) /
+    (omega h)`` (2.1x at the default 0.25 ms): the cause of the belt's period-2 chatter at
+    high rolling speed (docs/tire-core.md).
+    """
+    if not c < 1e300:                             # held like a stuck tip (c -> infinity)
+        return k * h + d
+    q = (c + d) / (2.0 * m) if m > 0.0 else math.inf
+    if not q < 1e300:                             # massless, or the mass negligible
+        cd = c + d
+        if not cd > 0.0:                          # a free massless tip carries nothing
+            return 0.0
+        return c * (d - c * math.expm1(-k * h / cd)) / cd
+    w2 = k / m
+    w = math.sqrt(w2)
+    if q < w:                                     # underdamped
+        Om = math.sqrt((w - q) * (w + q))
+        C = math.cos(Om * h)
+        S = math.sin(Om * h) / Om
+    else:
+        r = w / q
+        s = q * math.sqrt((1.0 - r) * (1.0 + r))
+        if s > 0.5 * q:                           # friction-dominated: two real modes
+            l1 = -w2 / (q + s)
+            l2 = -(q + s)
+            e1 = math.exp(l1 * h)
+            e2 = math.exp(l2 * h)
+            dA = -(k + l1 * c) / (2.0 * s)        # k y = (c + dA) e1 - dA e2
+            A = (c + dA) / k
+            B = -dA / k
+            return -c * math.expm1(l1 * h) - dA * (e1 - e2) - d * (l1 * A * e1 + l2 * B * e2)
+        C = math.cosh(s * h)                      # near critical damping
+        S = math.sinh(s * h) / s if s > 0.0 else h
+    e = math.exp(-q * h)
+    return c - e * ((c - d) * C + ((c * c + d * d) / (2.0 * m) - k) * S)
 
 
 def vertical_stiffness(p) -> float:
@@ -802,6 +900,42 @@ def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float
     return o
 
 
+def belt_gain(p, V_r: float, a: float, b: float, h: float) -> float:
+    """Upper bound of the loop gain of the belt's lateral translation and yaw through the
+    rolling speed over an outer step ``h`` (``belt_gain`` of the core; docs/tire-core.md,
+    "belt coupling at high rolling speed"): ``(V_r h)^2 J^2 / ((k_cy h + d_cy + J)(k_psi h +
+    d_psi + S2))`` with ``J = (k_y h + d_y) 2 a b`` and ``S2 = (k_y h + d_y) 2 a^3 b / 3``,
+    the stiffness of a stuck patch against the belt and its second moment."""
+    kd = p.k_y * h + p.d_y
+    J = kd * (2.0 * a * b)
+    S2 = kd * ((2.0 * a * a * a * b) / 3.0)
+    vh = V_r * h
+    return (vh * vh) * (J * J) / ((p.kc_y * h + p.dc_y + J) * (p.kc_psi * h + p.dc_psi + S2))
+
+
+def outer_step(p, V_r: float, a: float, b: float) -> float:
+    """Longest outer step [s] at rolling speed ``V_r`` [m/s] and patch ``a``, ``b`` [m]
+    (``outer_step`` of the core): ``dt_internal``, shortened to resolve the tread tip's period
+    (:data:`TIP_STEP`) and to keep :func:`belt_gain` at most :data:`BELT_GAIN_MAX` (the
+    largest such step, by bisection)."""
+    h = p.dt_internal
+    if p.mass > 0.0:
+        kmax = p.k_x if p.k_x > p.k_y else p.k_y
+        ht = TIP_STEP / math.sqrt(kmax / p.mass)
+        if ht < h:
+            h = ht
+    if p.rigid or not (a > 0.0 and b > 0.0) or not belt_gain(p, V_r, a, b, h) > BELT_GAIN_MAX:
+        return h
+    lo, hi = 0.0, h
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if belt_gain(p, V_r, a, b, mid) > BELT_GAIN_MAX:
+            hi = mid
+        else:
+            lo = mid
+    return lo
+
+
 class RefTire:
     """The transient tire of the core (``tf_tire``) in Python floats.
 
@@ -821,6 +955,9 @@ class RefTire:
         self.dx = 2.0 * a_nom / p.n_elements
         self.L = math.ceil(2.0 * self.a_max / self.dx) + 2
         self.work = 0.0
+        self.stages = 0.0
+        self.fallbacks = 0.0
+        self.flags = 0
         self.rr: RefTable | None = None
         self.wet: RefWet | None = None
         self.texture_depth = 0.0
@@ -927,6 +1064,7 @@ class RefTire:
         self.T_tread = T_tread
         self.time = 0.0
         self.out = [0.0] * N_OUT
+        self.flags = 0
 
     def get_state(self) -> list[float]:
         """State vector in the core's layout."""
@@ -949,11 +1087,13 @@ class RefTire:
                    for i in range(self.L)]
 
     def _tread_stiffness(self, c: Ctx, h: float) -> tuple[float, float, float, float]:
+        """Stiffness of the tread against the belt over the outer step ``h`` and its first and
+        second moments about the patch centre (``tread_stiffness`` of the core):
+        :func:`element_stiffness` per element, ``k h + d`` for a stuck one."""
         p = self.p
         jx = jy = s1 = s2 = 0.0
         kdx = p.k_x * h + p.d_x
         kdy = p.k_y * h + p.d_y
-        mdt = p.mass / h
         t = c.t
         for i, e in enumerate(self.el):
             if e[6] == 0.0:
@@ -987,12 +1127,14 @@ class RefTire:
             S.iso = True
             S.resid(V)
             cs = S.P / V
-            rx = (mdt + cs) / (mdt + kdx + cs)
-            ry = (mdt + cs) / (mdt + kdy + cs)
-            jx += kdx * rx
-            jy += kdy * ry
-            s1 += x * (kdy * ry)
-            s2 += x * (x * (kdy * ry))
+            if not cs > 0.0:                      # no friction (or a negative table value)
+                cs = 0.0
+            ex = element_stiffness(p.k_x, p.d_x, p.mass, cs, h)
+            ey = element_stiffness(p.k_y, p.d_y, p.mass, cs, h)
+            jx += ex
+            jy += ey
+            s1 += x * ey
+            s2 += x * (x * ey)
         return jx, jy, s1, s2
 
     def _advance(self, h, Vsx, Vsy, V_r, Fz, a, b, Ts, mus, wc, q_roll, d_water,
@@ -1060,6 +1202,12 @@ class RefTire:
             return [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
         c = Ctx(p, self._step_table(T0, d_water, lt_drain), T0, Fz, a, b, cf,
                 Fz / (area * wsum), mus, Vsx, Vsy, V_r)
+        # the friction is read at T0: outside the table's temperature axis it is its edge's
+        Tax = self.t.ax[1]
+        if not (Tax[0] <= T0 <= Tax[-1]):
+            self.flags |= FLAG_T_RANGE
+        w = [float(BUDGET) * p.n_elements, 0.0, 0.0]
+        c.w = w
         Vbx, Vby, wpsi = Vsx, Vsy, 0.0
         if not p.rigid:
             # belt translation and yaw, linearly implicit (docs/tire-core.md, "belt"): the
@@ -1137,6 +1285,10 @@ class RefTire:
                 d = dT * (1.0 - E)
                 if d > dTm:
                     dTm = d
+        self.stages += w[1]
+        self.fallbacks += w[2]
+        if w[2] > 0.0:
+            self.flags |= FLAG_BUDGET
         self.Vb = [Vbx, Vby]
         self.wpsi = wpsi
         self.wc = wc
@@ -1158,12 +1310,10 @@ class RefTire:
         p = self.p
         if math.isnan(self.T_tread):
             self.T_tread = Ts
+        self.flags = 0
         if 0.0 < dt < DT_FLOOR:
             self.time += dt
         elif dt > 0.0:
-            ns = math.ceil(dt / p.dt_internal - 1e-9)
-            n_sub = int(ns) if ns > 1.0 else 1
-            h = dt / n_sub
             if Fz < 0.0:
                 Fz = 0.0
             V_r = omega * p.R_e
@@ -1182,6 +1332,10 @@ class RefTire:
                     rv = 1.0
                 Fz_road = (1.0 - sd * rv) * Fz
             a, b = patch_size(p, Fz_road)
+            # equal outer steps no longer than dt_internal and the coupling's limits
+            ns = math.ceil(dt / outer_step(p, V_r, a, b) - 1e-9)
+            n_sub = int(ns) if ns > 1.0 else 1
+            h = dt / n_sub
             if wet is not None and a > 0.0:   # drainage time: drain_scale t_footprint
                 lt_drain = (math.log10(wet.drain_scale * (2.0 * a / abs(V_r))) if V_r != 0.0
                             else math.inf)
@@ -1214,11 +1368,15 @@ class RefTire:
             W = p.dt_internal
             if dt >= W:
                 o[0], o[1], o[2] = Ix / dt, Iy / dt, Im / dt
+                o[5] = _norm2(o[0], o[1]) / Fz if Fz > 0.0 else 0.0
             else:
                 o[0] += (Ix - dt * o[0]) / W
                 o[1] += (Iy - dt * o[1]) / W
                 o[2] += (Im - dt * o[2]) / W
-            o[5] = _norm2(o[0], o[1]) / Fz if Fz > 0.0 else 0.0
+                # the utilised friction relaxes the same way, towards the step's own
+                # |I| / (dt Fz) (at most mu_scale max(mu)): the relaxed force over the step's
+                # load would be unbounded as the load drops to 0
+                o[5] = o[5] + (_norm2(Ix, Iy) / Fz - dt * o[5]) / W if Fz > 0.0 else 0.0
             if fin[0] == 0.0:
                 o[6] = o[7] = o[8] = 0.0
             else:

@@ -92,7 +92,8 @@ class TransientBrushTire:
     n_elements
         Elements on the patch at the nominal load ``params.Fz_nom``.
     dt_internal
-        Longest outer step [s] (belt coupling and lattice transport).
+        Longest outer step [s] (belt coupling and lattice transport); the core takes shorter
+        ones where the belt coupling needs them (:func:`tire_brush.element.outer_step`).
     thermal
         Carry the tread temperature; default ``params.thermal.enabled``.
     rigid_carcass
@@ -367,6 +368,29 @@ class TransientBrushTire:
         if self.backend == "c":
             return float(self._lib.tf_tire_work(self._h))
         return self._ref.work
+
+    def counters(self) -> dict[str, float]:
+        """Work since creation (docs/tire-core.md, "work budget"): element ``substeps``
+        taken, ``stages`` solved (two per SDIRK attempt, accepted or not, one per event step
+        or budget fallback) and ``fallbacks`` (elements that finished an outer step with one
+        implicit Euler stage because its budget was spent)."""
+        if self.backend == "c":
+            buf = np.zeros(ccore.N_COUNT)
+            self._lib.tf_tire_counters(self._h, ccore._ptr(buf))
+            n, st, fb = buf.tolist()
+        else:
+            n, st, fb = self._ref.work, self._ref.stages, self._ref.fallbacks
+        return {"substeps": n, "stages": st, "fallbacks": fb}
+
+    @property
+    def flags(self) -> int:
+        """Flags of the last step (:data:`tire_brush.element.FLAG_BUDGET`: an outer step's
+        work budget was spent and its remaining elements finished with one implicit Euler
+        stage; :data:`tire_brush.element.FLAG_T_RANGE`: the friction was read at a
+        temperature outside the table's temperature axis, i.e. at its edge's values)."""
+        if self.backend == "c":
+            return int(self._lib.tf_tire_flags(self._h))
+        return self._ref.flags
 
     # -- stepping ---------------------------------------------------------------------------
     def step(self, dt: float, vx: float, vy: float, omega: float, Fz: float, T_surface: float,

@@ -24,6 +24,18 @@ NaN or +-inf (any input)               its last finite value (start value at fir
 branch
 =====================================  ===========================================  =====
 
+Two conditions come from the model rather than the inputs (:class:`ModelConditions`, from the
+tire core's flags of the step; docs/tire-core.md):
+
+=====================================  ===========================================  =====
+condition                              what the step did                            bit
+=====================================  ===========================================  =====
+the work budget of an outer step was   its remaining elements finished it with one   1024
+spent                                  implicit Euler stage ("work budget")
+the friction was read at a             read at the axis' edge                       2048
+temperature outside the grid's axis
+=====================================  ===========================================  =====
+
 The bits of a step add up to the FMU output ``input_status``. Each condition is reported once
 when it starts (warning) and once when it clears (with the number of steps it lasted), so a
 master stepping at 1 kHz is not flooded. Standstill (``vx = omega = 0``), creeping and
@@ -35,9 +47,9 @@ This module imports only the standard library: it runs inside the FMU.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, ClassVar
 
-from fmu_src.runtime.interface import STATUS_BITS
+from fmu_src.runtime.interface import MODEL_FLAGS, STATUS_BITS
 
 #: Input names in the order the guard takes them.
 NAMES = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma", "water_depth")
@@ -187,3 +199,53 @@ class InputGuard:
                              f"{len(NAMES)}")
         self.last = last
         self.active = {str(k): int(v) for k, v in state["active"].items()}
+
+
+class ModelConditions:
+    """Conditions of the model's own step (module docstring): the tire core's flags as
+    ``input_status`` bits, with a message when a condition starts (warning) and when it
+    clears (with the number of steps it lasted), like :class:`InputGuard`'s."""
+
+    _TEXT: ClassVar[dict[str, str]] = {
+        "work_budget": ("the element integrator's work budget of an outer step was spent: "
+                        "its remaining elements finished it with one implicit Euler stage "
+                        "(docs/tire-core.md, \"work budget\")"),
+        "temperature_range": ("the friction was read at a temperature outside the friction "
+                              "grid's temperature range [{T_min:g}, {T_max:g}] K, at its "
+                              "edge's values (T_tread = {T:g} K)"),
+    }
+
+    def __init__(self, T_min: float, T_max: float) -> None:
+        self.T_range = (float(T_min), float(T_max))
+        #: active conditions: key -> number of steps it has lasted
+        self.active: dict[str, int] = {}
+
+    def apply(self, flags: int, T: float) -> tuple[int, list[tuple[int, str]]]:
+        """Status bits and messages of a step whose core flags are ``flags`` and tread
+        temperature (the friction's, at its end) ``T`` [K]."""
+        found = [key for bit, key in MODEL_FLAGS.items() if flags & bit]
+        bits = 0
+        for key in found:
+            bits |= STATUS_BITS[key]
+        msgs = []
+        for key in found:
+            if key in self.active:
+                self.active[key] += 1
+            else:
+                self.active[key] = 1
+                text = self._TEXT[key].format(T_min=self.T_range[0], T_max=self.T_range[1],
+                                              T=T)
+                msgs.append((WARNING, f"{text} (input_status bit {STATUS_BITS[key]}; logged "
+                                      f"once until it clears)"))
+        for key in [k for k in self.active if k not in found]:
+            n = self.active.pop(key)
+            msgs.append((OK, f"model condition '{key}' cleared after {n} step(s)"))
+        return bits, msgs
+
+    def get_state(self) -> dict[str, int]:
+        """Active conditions (a copy)."""
+        return dict(self.active)
+
+    def set_state(self, state: dict[str, int]) -> None:
+        """Restore :meth:`get_state`."""
+        self.active = {str(k): int(v) for k, v in state.items()}

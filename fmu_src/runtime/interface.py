@@ -85,7 +85,13 @@ STATUS_BITS: dict[str, int] = {
     "camber_clamped": 128,  # |gamma| > limit.gamma: clamped
     "water_clamped": 256,   # water_depth < 0 or > limit.water_depth: clamped
     "no_wet_branch": 512,   # water_depth > 0 but the FMU's grid has no wet branch: dry road
+    "work_budget": 1024,    # the element integrator's work budget of an outer step was spent:
+                            # its remaining elements took one implicit Euler stage
+    "temperature_range": 2048,  # the friction was read at a temperature outside the grid's
+                                # temperature axis (at the axis' edge)
 }
+#: Flags of the tire core's last step (tirecore.h, TF_FLAG_*) -> STATUS_BITS key.
+MODEL_FLAGS: dict[int, str] = {1: "work_budget", 2: "temperature_range"}
 
 
 @dataclass(frozen=True)

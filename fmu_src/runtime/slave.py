@@ -15,7 +15,8 @@
 Status of ``doStep`` (pythonfmu can return fmi2OK or fmi2Discard):
 
 * fmi2OK -- the step was taken. If inputs had to be repaired (NaN, negative load, beyond the
-  envelope) the output ``input_status`` says which (bits of
+  envelope), or the model spent an outer step's work budget or read the friction outside the
+  grid's temperature range, the output ``input_status`` says which (bits of
   :data:`fmu_src.runtime.interface.STATUS_BITS`) and a warning goes to the FMI logger when the
   condition starts (logging on: fmpy ``debug_logging=True``).
 * fmi2Discard -- nothing was advanced because the communication step is negative, not finite
@@ -60,7 +61,7 @@ from pythonfmu.enums import Fmi2Status
 
 try:
     from fmu_src.runtime import state as state_io
-    from fmu_src.runtime.guard import InputGuard
+    from fmu_src.runtime.guard import InputGuard, ModelConditions
     from fmu_src.runtime.interface import (
         INPUTS,
         LIMITS,
@@ -213,6 +214,7 @@ class BrushTireSlave(Fmi2Slave):
         self._status = 0
         self._model: TransientBrushTire | None = None
         self._guard: InputGuard | None = None
+        self._conditions: ModelConditions | None = None
         self._model_key = ""
         self._signs = {"vy": 1, "Fy": 1, "Mz": 1, "My": 1, "alpha": 1}
         for i, v in enumerate(self._vars):
@@ -304,7 +306,10 @@ class BrushTireSlave(Fmi2Slave):
         except Exception as exc:  # a failure of the model must not end the co-simulation
             ok, why = False, f"{type(exc).__name__}: {exc}"
         if ok:
-            self._out, self._status = out, status
+            bits, messages = self._conditions.apply(model.flags, out.T_tread)
+            for level, text in messages:
+                self.log(f"t = {current_time:.6g} s: {text}", Fmi2Status(level))
+            self._out, self._status = out, status | bits
             return True
         model.reset()
         self._initial_outputs(x)
@@ -336,6 +341,8 @@ class BrushTireSlave(Fmi2Slave):
             self._model.set_wet_arrays(w["depth"], w["log10_t"], w["mu"], w["w_dry"],
                                        texture_depth=float(p["texture_depth"]),
                                        d_full=w["d_full"], drain_scale=w["drain_scale"])
+        T_axis = self._grid.axes["T"]
+        self._conditions = ModelConditions(float(T_axis[0]), float(T_axis[-1]))
         self._guard = InputGuard({k: float(p[k]) for k in LIMITS}, self._u_start,
                                  wet=self._wet is not None)
         axes = p["axes"]
@@ -370,6 +377,7 @@ class BrushTireSlave(Fmi2Slave):
                 "outputs": [getattr(self._out, n) for n in _OUTPUT_NAMES],
                 "status": self._status,
                 "guard": None if guard is None else guard.get_state(),
+                "conditions": None if guard is None else self._conditions.get_state(),
                 "model": None if model is None else model.get_state()}
 
     def _set_fmu_state(self, state: dict[str, Any]) -> None:
@@ -401,6 +409,7 @@ class BrushTireSlave(Fmi2Slave):
                 self._build_model()
             self._model.set_state(state["model"])
             self._guard.set_state(state["guard"])
+            self._conditions.set_state(state["conditions"])
         self._u = [float(x) for x in state["inputs"]]
         self._out = BrushOutputs(*(float(x) for x in state["outputs"]))
         self._status = int(state["status"])

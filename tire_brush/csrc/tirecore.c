@@ -25,6 +25,14 @@
 #define LN10 2.302585092994046
 /* pi / 2: the inclination angle is refused at or beyond it */
 #define HALF_PI 1.5707963267948966
+/* Longest outer step in units of the tread tip's period over 2 pi, 1 / sqrt(k / m): the
+ * linearly implicit belt coupling holds the belt's velocity over the step while the tips ring
+ * against it; beyond omega h ~ 1.5 that sampled loop can grow (docs/tire-core.md, "belt
+ * coupling at high rolling speed"). 1.4 keeps the shipped tire's 0.25 ms (omega h = 1.39). */
+#define TIP_STEP 1.4
+/* Largest loop gain of the belt's lateral-yaw coupling through the rolling speed over an
+ * outer step (belt_gain; docs/tire-core.md): measured stable up to 0.52, unstable from 0.55. */
+#define BELT_GAIN_MAX 0.5
 
 struct tf_table {
     int n[3];
@@ -60,6 +68,8 @@ struct tf_tire {
     int wvalid;
     double out[TF_NOUT];
     double work;
+    double stages, fallbacks;  /* stage solves and budget fallbacks since creation */
+    int flags;                 /* TF_FLAG_* of the last step */
 };
 
 /* ---------------------------------------------------------------- table ---------------- */
@@ -289,6 +299,13 @@ static double node_bound(const tf_table *t, const double *arr, const tf_tp *q, i
 
 /* ---------------------------------------------------------------- one stage ------------ */
 
+/* Work of one outer step (docs/tire-core.md, "work budget"): the element sub-step attempts
+ * (SDIRK steps, accepted or not, and event steps) it may still take, the stage solves and
+ * the implicit Euler stages that finished elements once the budget was spent. */
+typedef struct {
+    double left, stages, fallbacks;
+} tf_work;
+
 /* Context of one outer step (constant over it). */
 typedef struct {
     const tf_table *t;
@@ -302,6 +319,7 @@ typedef struct {
                                       t = (|x| - c_flat) / (a - c_flat) */
     double tol_abs;            /* stress tolerance [Pa] */
     double zx, zy;             /* velocity-error weights sqrt(k m) + d [N s/m^3] */
+    tf_work *w;                /* the outer step's work budget and counts (NULL: none) */
 } tf_ctx;
 
 /* The friction root problem of one stage (docs/tire-core.md, "stage solve"). */
@@ -650,6 +668,26 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
         double rest = h_e - t;
         int cut = Hn >= rest;
         double H = cut ? rest : Hn;
+        if (c->w && !(c->w->left > 0.0)) {
+            /* the outer step's budget is spent: the rest of the element's time in one
+             * implicit Euler stage (L-stable: it lands on the stuck or sliding equilibrium
+             * of the end of the step, whatever its length) */
+            double pe = pressure(c, x_end);
+            double vbe = c->Vby + x_end * c->wpsi;
+            stage(c, rest, pe, vbe, ux, uy, wx, wy, s, norm2(wx, wy), &o2);
+            ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
+            energy += rest * (o2.P * o2.V);
+            Jx += rest * o2.fx;
+            Jy += rest * o2.fy;
+            Jm += rest * (x_end * o2.fy);
+            Jt += rest * (x_end * (c->ky * o2.uy + c->dy * (o2.wy - vbe)));
+            steps += 1.0;
+            c->w->stages += 1.0;
+            c->w->fallbacks += 1.0;
+            p2 = pe;
+            break;
+        }
+        if (c->w) c->w->left -= 1.0;
         if (H <= H_MIN) {
             /* event step: at the smallest step a stick-slip event (a snap, instantaneous for
              * a massless tip) is taken with one implicit Euler stage, which lands on the new
@@ -658,6 +696,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
             double pe = pressure(c, xe);
             double vbe = c->Vby + xe * c->wpsi;
             stage(c, H, pe, vbe, ux, uy, wx, wy, s, norm2(wx, wy), &o2);
+            if (c->w) c->w->stages += 1.0;
             ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
             energy += H * (o2.P * o2.V);
             Jx += H * o2.fx;
@@ -682,6 +721,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
         double pe = pressure(c, xe);
         double vbe = c->Vby + xe * c->wpsi;
         stage(c, Hs, pe, vbe, Zux, Zuy, Zwx, Zwy, Zs, o1.V, &o2);
+        if (c->w) c->w->stages += 2.0;
         double ex = fabs(o2.ux - (ux + (o1.ux - ux) * ig)) * c->kx;
         double ey = fabs(o2.uy - (uy + (o1.uy - uy) * ig)) * c->ky;
         double evx = fabs(o2.wx - (wx + (o1.wx - wx) * ig)) * c->zx;
@@ -777,6 +817,7 @@ static void ctx_init(tf_ctx *c, const tf_params *p, const tf_table *t, double T,
     c->tol_abs = p->tol * (0.5 * Fz / (a * b));
     c->zx = sqrt(p->k_x * p->mass) + p->d_x;
     c->zy = sqrt(p->k_y * p->mass) + p->d_y;
+    c->w = NULL;
 }
 
 static int params_ok(const tf_params *p) {
@@ -959,6 +1000,7 @@ void tf_tire_reset(tf_tire *tire, double T_tread) {
     tire->psi = tire->wpsi = tire->M = tire->wc = 0.0;
     tire->T_tread = T_tread;
     tire->time = 0.0;
+    tire->flags = 0;
     for (int k = 0; k < TF_NOUT; k++) tire->out[k] = 0.0;
 }
 
@@ -1051,6 +1093,14 @@ int tf_tire_state_size(const tf_tire *tire) { return STATE_HEAD + TF_ELEM * tire
 
 double tf_tire_work(const tf_tire *tire) { return tire->work; }
 
+void tf_tire_counters(const tf_tire *tire, double *out) {
+    out[0] = tire->work;
+    out[1] = tire->stages;
+    out[2] = tire->fallbacks;
+}
+
+int tf_tire_flags(const tf_tire *tire) { return tire->flags; }
+
 void tf_tire_get_state(const tf_tire *tire, double *buf) {
     buf[0] = TF_VERSION;
     buf[1] = tire->L;
@@ -1093,14 +1143,55 @@ int tf_tire_set_state(tf_tire *tire, const double *buf) {
     return 0;
 }
 
+/* Stiffness [N s/m^3] of one element against its base over an outer step h: the stress it
+ * puts on the belt at the end of the step, per unit step of the base velocity at its start,
+ * for the element linearised with the secant friction stiffness c = p mu / |w| >= 0 (tip
+ * mass m, spring k, damper d; docs/tire-core.md, "belt"). The linearised element is
+ *     y'' + 2 q y' + w^2 y = 0,  q = (c + d) / 2m,  w^2 = k / m,  y(0) = c / k,  y'(0) = -1
+ * (y the deflection change plus c / k, y' the relative velocity of tip and base), and the
+ * stiffness is J = c - k y(h) - d y'(h): closed forms for the under- and overdamped cases
+ * (trigonometric, hyperbolic, and the two exponential modes when the friction dominates, where
+ * the slow mode's rate -w^2 / (q + s) is taken without cancellation), and for a massless tip
+ * or one whose mass the damping and friction dwarf (q beyond 1e300: one exponential).
+ * c -> infinity gives the stuck element's k h + d. */
+static double element_stiffness(double k, double d, double m, double c, double h) {
+    if (!(c < 1e300)) return k * h + d;        /* held like a stuck tip (the limit c -> inf) */
+    double q = m > 0.0 ? (c + d) / (2.0 * m) : INFINITY;
+    if (!(q < 1e300)) {                        /* massless, or the mass negligible */
+        double cd = c + d;
+        if (!(cd > 0.0)) return 0.0;           /* a free massless tip carries nothing */
+        return c * (d - c * expm1(-k * h / cd)) / cd;
+    }
+    double w2 = k / m, w = sqrt(w2);
+    double C, S;
+    if (q < w) {                               /* underdamped */
+        double Om = sqrt((w - q) * (w + q));
+        C = cos(Om * h);
+        S = sin(Om * h) / Om;
+    } else {
+        double r = w / q;
+        double s = q * sqrt((1.0 - r) * (1.0 + r));
+        if (s > 0.5 * q) {                     /* friction-dominated: two real modes */
+            double l1 = -w2 / (q + s), l2 = -(q + s);
+            double e1 = exp(l1 * h), e2 = exp(l2 * h);
+            double dA = -(k + l1 * c) / (2.0 * s);  /* k y = (c + dA) e1 - dA e2 */
+            double A = (c + dA) / k, B = -dA / k;
+            return -c * expm1(l1 * h) - dA * (e1 - e2) - d * (l1 * A * e1 + l2 * B * e2);
+        }
+        C = cosh(s * h);                       /* near critical damping */
+        S = s > 0.0 ? sinh(s * h) / s : h;
+    }
+    double e = exp(-q * h);
+    return c - e * ((c - d) * C + ((c * c + d * d) / (2.0 * m) - k) * S);
+}
+
 /* Stiffness of the tread against the belt over an outer step h (linearly implicit belt
- * coupling, docs/tire-core.md): (k h + d) (m/h + c) / (A + c) per element, with c the
- * secant friction stiffness p mu / |w| of a sliding element (infinite when it sticks). */
+ * coupling, docs/tire-core.md): element_stiffness per element, k h + d when it sticks. */
 static void tread_stiffness(const tf_tire *tire, const tf_ctx *c, double h, double *Jx,
                             double *Jy, double *S1, double *S2) {
     const tf_params *p = &tire->p;
     double jx = 0.0, jy = 0.0, s1 = 0.0, s2 = 0.0;
-    double kdx = p->k_x * h + p->d_x, kdy = p->k_y * h + p->d_y, mdt = p->mass / h;
+    double kdx = p->k_x * h + p->d_x, kdy = p->k_y * h + p->d_y;
     for (int i = 0; i < tire->L; i++) {
         const double *e = tire->el + (size_t)i * TF_ELEM;
         if (e[6] == 0.0) continue;
@@ -1140,11 +1231,13 @@ static void tread_stiffness(const tf_tire *tire, const tf_ctx *c, double h, doub
         double dR_;
         resid(&S, V, &dR_);
         double cs = S.P / V;
-        double rx = (mdt + cs) / (mdt + kdx + cs), ry = (mdt + cs) / (mdt + kdy + cs);
-        jx += kdx * rx;
-        jy += kdy * ry;
-        s1 += x * (kdy * ry);
-        s2 += x * (x * (kdy * ry));
+        if (!(cs > 0.0)) cs = 0.0;             /* no friction (or a negative table value) */
+        double ex = element_stiffness(p->k_x, p->d_x, p->mass, cs, h);
+        double ey = element_stiffness(p->k_y, p->d_y, p->mass, cs, h);
+        jx += ex;
+        jy += ey;
+        s1 += x * ey;
+        s2 += x * (x * ey);
     }
     *Jx = jx;
     *Jy = jy;
@@ -1232,6 +1325,11 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
     tf_ctx c;
     ctx_init(&c, p, step_table(tire, T0, d_water, lt_drain), T0, Fz, a, b, cf,
              Fz / (area * wsum), mu_scale, Vsx, Vsy, V_r);
+    /* the friction is read at T0: outside the table's temperature axis it is its edge's */
+    const double *Tax = tire->t->ax[1];
+    if (!(T0 >= Tax[0] && T0 <= Tax[tire->t->n[1] - 1])) tire->flags |= TF_FLAG_T_RANGE;
+    tf_work w = {(double)TF_BUDGET * p->n_elements, 0.0, 0.0};
+    c.w = &w;
     double Vbx = Vsx, Vby = Vsy, wpsi = 0.0;
     if (!p->rigid) {
         /* belt translation and yaw, linearly implicit (docs/tire-core.md, "belt"): the
@@ -1319,6 +1417,9 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
             if (dT > dTm) dTm = dT;
         }
     }
+    tire->stages += w.stages;
+    tire->fallbacks += w.fallbacks;
+    if (w.fallbacks > 0.0) tire->flags |= TF_FLAG_BUDGET;
     tire->Vb[0] = Vbx;
     tire->Vb[1] = Vby;
     tire->wpsi = wpsi;
@@ -1369,6 +1470,40 @@ static void rolling(const tf_table *rr, double vr, double T, double Fz, double *
     *sh = acc[1];
 }
 
+/* Upper bound of the loop gain of the belt's lateral translation and yaw through the rolling
+ * speed over an outer step h (docs/tire-core.md, "belt coupling at high rolling speed"): the
+ * yaw psi turns the base's lateral slip by -V_r psi, the lateral stress it raises is carried
+ * V_r h along the patch in a step, and its moment yaws the belt:
+ *     G = (V_r h)^2 J^2 / ((k_cy h + d_cy + J)(k_psi h + d_psi + S2)),
+ * J = (k_y h + d_y) 2 a b and S2 = (k_y h + d_y) 2 a^3 b / 3 the stiffness of a stuck patch
+ * against the belt and its second moment (the largest the tread can have: G grows with them). */
+static double belt_gain(const tf_params *p, double V_r, double a, double b, double h) {
+    double kd = p->k_y * h + p->d_y;
+    double J = kd * (2.0 * a * b), S2 = kd * ((2.0 * a * a * a * b) / 3.0);
+    double vh = V_r * h;
+    return (vh * vh) * (J * J) / ((p->kc_y * h + p->dc_y + J) * (p->kc_psi * h + p->dc_psi + S2));
+}
+
+/* Longest outer step [s] at rolling speed V_r and patch a, b: dt_internal, shortened to
+ * resolve the tread tip's period (TIP_STEP) and to keep the belt's lateral-yaw loop gain at
+ * most BELT_GAIN_MAX (the largest such step, by bisection: the gain grows with h). */
+static double outer_step(const tf_params *p, double V_r, double a, double b) {
+    double h = p->dt_internal;
+    if (p->mass > 0.0) {
+        double kmax = p->k_x > p->k_y ? p->k_x : p->k_y;
+        double ht = TIP_STEP / sqrt(kmax / p->mass);
+        if (ht < h) h = ht;
+    }
+    if (p->rigid || !(a > 0.0 && b > 0.0) || !(belt_gain(p, V_r, a, b, h) > BELT_GAIN_MAX))
+        return h;
+    double lo = 0.0, hi = h;
+    for (int it = 0; it < 60; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (belt_gain(p, V_r, a, b, mid) > BELT_GAIN_MAX) hi = mid; else lo = mid;
+    }
+    return lo;
+}
+
 int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
     double vx = in[0], vy = in[1], omega = in[2], Fz = in[3], Ts = in[4], mus = in[5];
     double gam = in[6], d_water = in[7];
@@ -1378,12 +1513,10 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         return -1;
     const tf_params *p = &tire->p;
     if (isnan(tire->T_tread)) tire->T_tread = Ts;
+    tire->flags = 0;
     if (dt > 0.0 && dt < TF_DT_FLOOR) {
         tire->time += dt;
     } else if (dt > 0.0) {
-        double ns = ceil(dt / p->dt_internal - 1e-9);
-        int n_sub = ns > 1.0 ? (int)ns : 1;
-        double h = dt / n_sub;
         if (Fz < 0.0) Fz = 0.0;
         double V_r = omega * p->R_e;
         /* water: dynamic hydroplaning lifts the share L of the load off the road (tirecore.h,
@@ -1401,6 +1534,11 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         }
         double a, b;
         patch_size(p, Fz_road, &a, &b);
+        /* equal outer steps no longer than dt_internal and the coupling's limits */
+        double ns = ceil(dt / outer_step(p, V_r, a, b) - 1e-9);
+        if (!(ns <= 2147483647.0)) return -1;     /* more outer steps than an int counts */
+        int n_sub = ns > 1.0 ? (int)ns : 1;
+        double h = dt / n_sub;
         if (wet && a > 0.0)     /* drainage time: drain_scale times the time in the footprint */
             lt_drain = V_r != 0.0 ? log10(wet->drain_scale * (2.0 * a / fabs(V_r))) : INFINITY;
         /* camber: the base spins at -(1 - eps) omega sin(gamma) (tirecore.h) */
@@ -1434,12 +1572,16 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
             o[0] = Ix / dt;
             o[1] = Iy / dt;
             o[2] = Im / dt;
+            o[5] = Fz > 0.0 ? norm2(o[0], o[1]) / Fz : 0.0;
         } else {
             o[0] += (Ix - dt * o[0]) / W;
             o[1] += (Iy - dt * o[1]) / W;
             o[2] += (Im - dt * o[2]) / W;
+            /* the utilised friction relaxes the same way, towards the step's own |I| / (dt Fz)
+             * (at most mu_scale max(mu): the friction on every element is): the relaxed force
+             * over the step's load would be unbounded as the load drops to 0 */
+            o[5] = Fz > 0.0 ? o[5] + (norm2(Ix, Iy) / Fz - dt * o[5]) / W : 0.0;
         }
-        o[5] = Fz > 0.0 ? norm2(o[0], o[1]) / Fz : 0.0;
         if (fin[0] == 0.0) {
             o[6] = 0.0; o[7] = 0.0; o[8] = 0.0;
         } else {

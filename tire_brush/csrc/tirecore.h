@@ -79,7 +79,8 @@ typedef struct {
     double heat_capacity, conductance, heat_fraction;
     /* discretisation */
     int n_elements;     /* elements on the patch at Fz_nom */
-    double dt_internal; /* longest outer (belt and lattice) step [s] */
+    double dt_internal; /* longest outer (belt and lattice) step [s]; shorter where the belt
+                         * coupling needs it (docs/tire-core.md) */
     double tol;         /* local error tolerance of the element integration [1] */
     double v_floor;     /* speed floor of the reported slips [m/s] */
 } tf_params;
@@ -118,8 +119,9 @@ TF_API void tf_tire_free(tf_tire *tire);
 TF_API void tf_tire_reset(tf_tire *tire, double T_tread);
 /* Advance by dt [s] with the TF_NIN inputs held (dt < TF_DT_FLOOR: only the clock advances).
  * Writes TF_NOUT outputs. Returns 0, or -1 for inputs it refuses (non-finite, dt < 0,
- * T_surface <= 0, mu_scale < 0, |gamma| >= pi/2, water_depth < 0), leaving the state
- * unchanged. */
+ * T_surface <= 0, mu_scale < 0, |gamma| >= pi/2, water_depth < 0, a step of more outer steps
+ * than an int counts), leaving the state unchanged. The work of each outer step is bounded
+ * (TF_BUDGET); tf_tire_flags says what the step reported. */
 TF_API int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out);
 /* Rolling resistance (optional; NULL removes it): a table on (log10 |V_r| [m/s], T_tread [K],
  * log10 Fz [N]) whose node values are (f_r, tread_share, unused): the coefficient F_r / Fz
@@ -138,6 +140,23 @@ TF_API void tf_tire_get_state(const tf_tire *tire, double *buf);
 TF_API int tf_tire_set_state(tf_tire *tire, const double *buf);
 /* Sub-steps taken by the elements since creation (a work counter for benchmarks). */
 TF_API double tf_tire_work(const tf_tire *tire);
+/* Work budget of one outer step (docs/tire-core.md, "work budget"): at most TF_BUDGET element
+ * sub-step attempts (accepted or rejected SDIRK steps, event steps) per element of the nominal
+ * patch (n_elements); once spent, every element still to integrate in that outer step finishes
+ * it with one implicit Euler stage. An outer step thus solves at most
+ * 2 TF_BUDGET n_elements + (lattice size) stages, each with a bounded number of residual
+ * evaluations. */
+#define TF_BUDGET 24
+/* Flags of the last step (tf_tire_flags): the work budget of an outer step was spent; the
+ * friction was read at a temperature (the tread's, or T_surface without the thermal state)
+ * outside the table's temperature axis (at its edge's values). */
+#define TF_FLAG_BUDGET 1
+#define TF_FLAG_T_RANGE 2
+TF_API int tf_tire_flags(const tf_tire *tire);
+/* Counters since creation: element sub-steps taken (tf_tire_work), stage solves (two per SDIRK
+ * attempt, one per event step or budget fallback), budget fallbacks (TF_NCOUNT doubles). */
+#define TF_NCOUNT 3
+TF_API void tf_tire_counters(const tf_tire *tire, double *out);
 
 /* Steady state of n operating points (one element marched through the patch over n_cells
  * cells, belt at rest), at background temperature T [K] and friction scale mu_scale:

@@ -12,7 +12,9 @@
  *  - each doStep passes the inputs through the input guard of fmu_src/runtime/guard.py (same clamps,
  *    same input_status bits, messages once when a condition starts and when it clears), then
  *    advances the core by the communication step. Returns fmi2OK, or fmi2Warning when the step's
- *    inputs had to be repaired (input_status != 0), fmi2Discard when the core failed (it is then
+ *    inputs had to be repaired or the core reports a condition of its own (an outer step's work
+ *    budget spent, the friction read outside the grid's temperature range: input_status bits
+ *    1024 and 2048, logged like the guard's), fmi2Discard when the core failed (it is then
  *    reset to rest, input_status bit 64), fmi2Error for a communication step that is negative,
  *    not finite or longer than TFN_MAX_SUBSTEPS internal steps (nothing advanced);
  *  - misuse (unknown value reference, wrong type or causality, a fixed parameter set after
@@ -37,10 +39,14 @@
 /* guard conditions: nonfinite x6, speed x3, neg. load, load, T, mu, nonfinite gamma, camber,
  * nonfinite water, water clamped, no wet branch */
 #define TFN_NGUARD 18
+/* conditions of the model's own step (fmu_src/runtime/guard.py, ModelConditions): the core's
+ * work budget was spent, the friction was read outside the table's temperature axis */
+#define TFN_NMODEL 2
+#define TFN_NCOND (TFN_NGUARD + TFN_NMODEL)
 #define TFN_MAX_SUBSTEPS 100000.0
 #define TFN_TABLE_MAGIC "TIREFRIC-TABLE\0\0" /* 16 bytes */
 #define TFN_STATE_MAGIC "TFNSTATE"           /* 8 bytes */
-#define TFN_STATE_VERSION 2u
+#define TFN_STATE_VERSION 3u
 
 enum { PH_INSTANTIATED, PH_INIT, PH_STEP, PH_TERMINATED, PH_ERROR };
 
@@ -52,6 +58,11 @@ static const int GUARD_INPUT[TFN_NGUARD] = {0, 1, 2, 3, 4, 5, 0, 1, 2, 3, 3, 4, 
 static const int NONFINITE[TFN_NIN] = {0, 1, 2, 3, 4, 5, 13, 15};
 static const char *const IN_NAME[TFN_NIN] = {"vx", "vy", "omega", "Fz", "T_surface",
                                              "mu_scale", "gamma", "water_depth"};
+/* the core's flags (tirecore.h, TF_FLAG_*), their input_status bits and names (STATUS_BITS of
+ * fmu_src/runtime/interface.py) */
+static const int MODEL_FLAG[TFN_NMODEL] = {TF_FLAG_BUDGET, TF_FLAG_T_RANGE};
+static const int MODEL_BIT[TFN_NMODEL] = {1024, 2048};
+static const char *const MODEL_NAME[TFN_NMODEL] = {"work_budget", "temperature_range"};
 static const char *const GUARD_NAME[TFN_NGUARD] = {
     "nonfinite:vx", "nonfinite:vy", "nonfinite:omega", "nonfinite:Fz", "nonfinite:T_surface",
     "nonfinite:mu_scale", "speed_clamped:vx", "speed_clamped:vy", "speed_clamped:omega",
@@ -62,7 +73,7 @@ static const char *const GUARD_NAME[TFN_NGUARD] = {
 typedef struct {
     double v[TFN_NV];          /* values of every non-string variable, by value reference */
     double last[TFN_NIN];      /* guard: last finite inputs */
-    int32_t active[TFN_NGUARD]; /* guard: steps each active condition has lasted */
+    int32_t active[TFN_NCOND]; /* guard and model: steps each active condition has lasted */
     int32_t has_tire;
     double time;
     int32_t ncore;
@@ -75,7 +86,7 @@ typedef struct {
     int logging, phase;
     double v[TFN_NV];
     double last[TFN_NIN];
-    int32_t active[TFN_NGUARD];
+    int32_t active[TFN_NCOND];
     double time;
     /* friction table from the resource file */
     int nv, nT, np;
@@ -486,6 +497,40 @@ static int guard_apply(comp *c, const double *u, double *x, const char *when) {
     return bits;
 }
 
+/* Status bits of the model's conditions in the step just taken (core flags fl, tread
+ * temperature T [K]), logged when a condition starts (warning) and when it clears. */
+static int model_conditions(comp *c, int fl, double T, const char *when) {
+    int bits = 0;
+    for (int k = 0; k < TFN_NMODEL; k++) {
+        int32_t *a = &c->active[TFN_NGUARD + k];
+        if (fl & MODEL_FLAG[k]) {
+            bits |= MODEL_BIT[k];
+            if (*a) {
+                (*a)++;
+            } else {
+                *a = 1;
+                if (k == 0)
+                    logf_(c, fmi2Warning, "%s: the element integrator's work budget of an outer "
+                          "step was spent: its remaining elements finished it with one "
+                          "implicit Euler stage (docs/tire-core.md, \"work budget\"; "
+                          "input_status bit %d; logged once until it clears)", when,
+                          MODEL_BIT[k]);
+                else
+                    logf_(c, fmi2Warning, "%s: the friction was read at a temperature outside "
+                          "the friction grid's temperature range [%g, %g] K, at its edge's "
+                          "values (T_tread = %g K; input_status bit %d; logged once until it "
+                          "clears)", when, c->axes[c->nv], c->axes[c->nv + c->nT - 1], T,
+                          MODEL_BIT[k]);
+            }
+        } else if (*a) {
+            logf_(c, fmi2OK, "%s: model condition '%s' cleared after %d step(s)", when,
+                  MODEL_NAME[k], (int)*a);
+            *a = 0;
+        }
+    }
+    return bits;
+}
+
 static void guard_reset(comp *c) {
     for (int i = 0; i < TFN_NIN; i++) c->last[i] = TFN_VARS[TFN_VR_INPUT0 + i].start;
     memset(c->active, 0, sizeof c->active);
@@ -804,6 +849,7 @@ fmi2Status fmi2DoStep(fmi2Component comp_, fmi2Real t, fmi2Real h, fmi2Boolean n
     for (int k = 0; ok && k < TF_NOUT; k++) ok = isfinite(out[k]);
     c->time = t + h;
     if (ok) {
+        st |= model_conditions(c, tf_tire_flags(c->tire), out[9], when);
         outputs_to_axes(c, out);
         memcpy(c->v + TFN_VR_OUTPUT0, out, sizeof out);
         c->v[TFN_VR_STATUS] = st;
@@ -888,15 +934,16 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReferenc
 /* -- FMI: FMU state ----------------------------------------------------------------------------
  * Serialized form (host byte order: little endian on x86-64 and arm64):
  *   8 bytes   magic "TFNSTATE"
- *   uint32    format version (1)
+ *   uint32    format version (TFN_STATE_VERSION)
  *   uint32    number of variables TFN_NV
  *   40 bytes  GUID of the FMU (NUL padded): a state loads only into the same build
- *   int32     has_tire, ncore (doubles of the core state), active[13] (guard)
- *   float64   time, v[TFN_NV], last[6], core[ncore]
+ *   int32     has_tire, ncore (doubles of the core state), active[TFN_NCOND] (guard and
+ *             model conditions)
+ *   float64   time, v[TFN_NV], last[TFN_NIN], core[ncore]
  *   uint64    FNV-1a 64 of all preceding bytes
  */
 #define HDR (8 + 4 + 4 + 40)
-#define NINT (2 + TFN_NGUARD)
+#define NINT (2 + TFN_NCOND)
 
 static size_t ser_size(int ncore) {
     return HDR + 4 * NINT + 8 * (1 + TFN_NV + TFN_NIN + (size_t)ncore) + 8;
