@@ -83,6 +83,15 @@ def test_limits_rubbery_and_glassy() -> None:
     assert EI[2] / EI[3] == pytest.approx(10.0, rel=1e-6), "E_I ~ 1/omega above it"
 
 
+def test_absurd_reduced_frequencies_stay_finite() -> None:
+    """A shift factor continued far below its range (WLF's linear continuation near T_ref -
+    C2) can ask for omega ~ 1e200 rad/s: the moduli are the glassy limit, without overflow."""
+    with np.errstate(all="raise"):
+        ER, EI = TWO.storage_loss(np.array([1e200, -1e200, 1e300]))
+    np.testing.assert_allclose(ER, TWO.E_glassy, rtol=1e-12)
+    assert (np.abs(EI) < 1e-80).all() and EI[0] > 0 > EI[1]
+
+
 def test_loss_positive_and_storage_rising() -> None:
     """Positive arms: E_I > 0 for omega > 0 (odd in omega, docs/review-notes.md Trap 1) and
     E_R rises monotonically with frequency."""
