@@ -12,7 +12,13 @@ File layout (SI unless written as ``"<number> <unit>"``)::
     T_ref = "20 degC"
     model = "prony"                # E_inf [Pa], E_k [Pa], tau_k [s]; or, with
                                    # spectrum = "lognormal": E_inf, E_glassy, tau_center,
-                                   # width_decades, arms_per_decade (Prony.lognormal)
+                                   # width_decades, arms_per_decade (Prony.lognormal), or
+                                   # E_inf, arms_per_decade and one [[modulus.component]]
+                                   # table per log-normal component (LogNormalSpectrum):
+    [[modulus.component]]          #   name = "alpha" (optional label),
+    strength = "1.9 GPa"           #   Delta E_i [Pa], E' rises by the sum of the strengths,
+    tau_center = 4e-10             #   centre of the component [s] at T_ref,
+    width_decades = 1.6            #   standard deviation of log10(tau) [decades]
     # or "single_relaxation" (E0, E1 >= E0, tau: review eq. 4; E1 = E0 is the elastic limit)
     # or "tabulated" (file = a text table of frequency, E' and E'' (or tan delta), see
     #                 "Tables" below; outside = "maxwell" | "error", see lookup.modulus)
@@ -76,7 +82,14 @@ from tirefric.errors import InputError
 from tirefric.paths import resolve_model_file
 
 from .adhesion import GaussianShearLaw, NoAdhesion, ShearLaw
-from .modulus import Modulus, ModulusTable, Prony, SingleRelaxation, TabulatedMasterCurve
+from .modulus import (
+    LogNormalSpectrum,
+    Modulus,
+    ModulusTable,
+    Prony,
+    SingleRelaxation,
+    TabulatedMasterCurve,
+)
 from .shift import T_REF_TOLERANCE, WLF, Arrhenius, ShiftFactor, TabulatedShift
 from .softening import (
     KrausSoftening,
@@ -233,6 +246,8 @@ def _load_modulus(t: Table) -> Modulus:
             raise t.error("E1", f"glassy modulus must be >= E0 = {E0:g} Pa (E1 = E0 is the "
                           "elastic limit)", t.raw("E1"))
         return SingleRelaxation(E0, E1, t.quantity("tau", "time", positive=True))
+    if model == "prony" and t.has("spectrum") and t.has("component"):
+        return _load_lognormal_components(t)
     if model == "prony" and t.has("spectrum"):
         t.string("spectrum", choices=("lognormal",))
         E_inf = t.quantity("E_inf", "pressure", positive=True)
@@ -285,6 +300,31 @@ def _moduli_columns(tab: CsvTable, with_frequency: bool, expected: str | None = 
     E_loss = tab.column("E_loss", "pressure", expected)
     return omega, E_storage, E_loss, (f"E' from '{tab.cells[tab.find('E_storage')]}', E'' "
                                       f"from '{tab.cells[tab.find('E_loss')]}'")
+
+
+def _load_lognormal_components(t: Table) -> LogNormalSpectrum:
+    """``spectrum = "lognormal"`` with ``[[modulus.component]]`` tables (several components)."""
+    t.string("spectrum", choices=("lognormal",))
+    for key in ("E_glassy", "tau_center", "width_decades"):
+        if t.has(key):
+            raise t.error(key, "belongs to the single-component form; with [[modulus.component]] "
+                          "tables give strength, tau_center and width_decades in each "
+                          "component", t.raw(key))
+    raw = t.raw("component")
+    if not isinstance(raw, list) or not raw or not all(isinstance(c, dict) for c in raw):
+        raise t.error("component", "expected one or more [[modulus.component]] tables", raw)
+    strengths, centres, widths, names = [], [], [], []
+    for i, c in enumerate(raw):
+        ct = Table(c, t.source, f"{t.name('component')}[{i}]")
+        names.append(ct.string("name", default=""))
+        strengths.append(ct.quantity("strength", "pressure", positive=True))
+        centres.append(ct.quantity("tau_center", "time", positive=True))
+        widths.append(ct.quantity("width_decades", "dimensionless", positive=True))
+        ct.check_unknown()
+    return LogNormalSpectrum(t.quantity("E_inf", "pressure", positive=True),
+                             np.array(strengths), np.array(centres), np.array(widths),
+                             t.integer("arms_per_decade", 2, minimum=1),
+                             tuple(names) if any(names) else ())
 
 
 def _load_shift(t: Table) -> ShiftFactor:

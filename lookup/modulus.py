@@ -6,10 +6,14 @@ Convention (review eqs. 1-3): time dependence :math:`e^{-i\omega t}`, so the com
 ``>= 0`` for ``omega > 0`` and odd in ``omega`` (docs/review-notes.md, Trap 1). ``E_R`` is even in
 ``omega``.
 
-Three models of the small-strain master curve are provided:
+Four models of the small-strain master curve are provided:
 
 * :class:`SingleRelaxation`, review eq. (4);
-* :class:`Prony`, a generalised Maxwell (Prony) series;
+* :class:`Prony`, a generalised Maxwell (Prony) series (explicit arms, or one log-normal
+  relaxation spectrum sampled by :meth:`Prony.lognormal`);
+* :class:`LogNormalSpectrum`, a relaxation spectrum made of several log-normal components (the
+  glass transition and the broad low-frequency loss of a filled tread compound), sampled as a
+  Prony series with positive arms;
 * :class:`TabulatedMasterCurve`, a DMA master curve (omega, E', E'') interpolated log-log,
   with an explicit policy outside the measured band (no blind extrapolation).
 
@@ -142,16 +146,20 @@ class Prony:
             raise InputError("log-normal spectrum needs E_glassy > E_inf > 0, tau_center > 0, "
                              "width_decades > 0, arms_per_decade >= 1", field="modulus",
                              value=(E_inf, E_glassy, tau_center, width_decades))
-        c = np.log10(tau_center)
-        step = 1.0 / arms_per_decade
-        lt = np.arange(np.floor(c - 4 * width_decades), np.ceil(c + 4 * width_decades) + step / 2,
-                       step)
-        w = np.exp(-0.5 * ((lt - c) / width_decades) ** 2)
-        return cls(E_inf, (E_glassy - E_inf) * w / w.sum(), 10.0**lt)
+        E_k, tau_k = _lognormal_arms(E_glassy - E_inf, tau_center, width_decades,
+                                     arms_per_decade)
+        return cls(E_inf, E_k, tau_k)
 
     def storage_loss(self, omega: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(E_R, E_I) [Pa] with E_I = -Im E >= 0 for omega > 0.
+
+        omega tau is clipped at +-1e100, where every arm is glassy to machine precision
+        (x^2/(1 + x^2) = 1), so that no square overflows at absurd reduced frequencies (a
+        shift factor continued far below its range); nothing changes below that.
+        """
         omega = np.asarray(omega, dtype=float)
-        wt = omega[..., None] * self.tau_k
+        with np.errstate(over="ignore"):  # an infinite product is clipped like a large one
+            wt = np.clip(omega[..., None] * self.tau_k, -1e100, 1e100)
         d = 1.0 + wt * wt
         E_R = self.E_inf + np.sum(self.E_k * wt * wt / d, axis=-1)
         E_I = np.sum(self.E_k * wt / d, axis=-1)
@@ -160,6 +168,136 @@ class Prony:
     def describe(self) -> dict:
         return {"model": "prony", "E_inf_Pa": self.E_inf, "E_k_Pa": self.E_k.tolist(),
                 "tau_k_s": self.tau_k.tolist()}
+
+
+def _lognormal_arms(strength: float, tau_center: float, width_decades: float,
+                    arms_per_decade: int) -> tuple[np.ndarray, np.ndarray]:
+    """Maxwell arms (E_k, tau_k) sampling one log-normal component of strength ``strength``.
+
+    Arms sit on the decade-aligned grid log10 tau = n / arms_per_decade within +-4 widths of
+    log10 ``tau_center``; their moduli follow the Gaussian in log10 tau and add up to
+    ``strength`` exactly (up to round-off).
+    """
+    c = np.log10(tau_center)
+    step = 1.0 / arms_per_decade
+    lt = np.arange(np.floor(c - 4 * width_decades), np.ceil(c + 4 * width_decades) + step / 2,
+                   step)
+    w = np.exp(-0.5 * ((lt - c) / width_decades) ** 2)
+    return strength * w / w.sum(), 10.0**lt
+
+
+@dataclass(frozen=True)
+class LogNormalSpectrum:
+    r"""Relaxation spectrum made of several log-normal components, as a Prony series.
+
+    The relaxation spectrum (Ferry, *Viscoelastic Properties of Polymers*, 3rd ed., ch. 3,
+    eqs. 3-4 to 3-7; Tschoegl, *The Phenomenological Theory of Linear Viscoelastic Behavior*,
+    1989, ch. 4) is
+
+    .. math:: H(\log_{10}	au) = \sum_i rac{\Delta E_i}{\sqrt{2\pi}\, w_i}
+              \exp\!\left(-rac{(\log_{10}	au - \log_{10}	au_i)^2}{2 w_i^2}
+ight),
+
+    and :math:`E(\omega) = E_\infty + \int H\, (-i\omega	au)/(1 - i\omega	au)\,
+    d\log_{10}	au` (the review's sign convention, eq. 3). Each component i is sampled like
+    :meth:`Prony.lognormal` (arms at ``arms_per_decade`` per decade within +-4 w_i, moduli
+    adding up to Delta E_i), and the arms of all components form one Prony series. With one
+    component the arms are exactly those of :meth:`Prony.lognormal` (``E_glassy = E_inf +
+    Delta E``), bit for bit.
+
+    Why several components: a filled tread compound has two loss mechanisms with very
+    different breadths, the glass (alpha) transition, over which E' rises ~2.5 decades
+    within 3-4 decades of frequency (tan delta 0.6-1.0 at its peak), and the broad loss of the
+    filler network and the chain dynamics on the rubbery side, where tan delta stays at
+    0.1-0.3 over many decades. By the approximate Kramers-Kronig relation
+    tan delta ~ (pi/2) d ln E'/d ln omega (Booij & Thoone, Rheol. Acta 21 (1982) 15) a rubbery
+    side with tan delta ~ 0.15 needs E' to keep rising ~20 % per decade there, which one
+    log-normal component narrow enough for the transition's peak cannot give (its loss falls
+    as a Gaussian in log omega), and one broad enough cannot give the peak. A single
+    Havriliak-Negami or fractional Zener element (Havriliak & Negami, Polymer 8 (1967) 161;
+    Pritz, J. Sound Vib. 195 (1996) 103) has one power law on each flank of one transition
+    and meets the same objection; a sum of components is needed either way, and log-normal
+    components keep the Prony form every evaluator of this package already reads.
+
+    Causality and passivity: every arm is a standard linear solid with E_k > 0, whose
+    E(omega) is analytic in the upper half-plane and whose loss modulus
+    E_k omega tau_k/(1 + omega^2 tau_k^2) is >= 0 for omega > 0; a sum of such arms keeps both
+    properties, so E_R and E_I obey the Kramers-Kronig relations and E_I >= 0 by
+    construction (Tschoegl 1989, ch. 4). The tests check the relations numerically.
+
+    Attributes
+    ----------
+    E_inf : float
+        Equilibrium (zero-frequency) modulus [Pa].
+    strengths : numpy.ndarray
+        Delta E_i of the components [Pa], all > 0; E' rises from E_inf to E_inf + sum.
+    tau_centers : numpy.ndarray
+        Centres tau_i of the components [s], > 0.
+    widths : numpy.ndarray
+        Standard deviations w_i of log10 tau [decades], > 0.
+    arms_per_decade : int
+        Sampling density of the arms.
+    names : tuple of str
+        Optional labels of the components (provenance only).
+    """
+
+    E_inf: float
+    strengths: np.ndarray
+    tau_centers: np.ndarray
+    widths: np.ndarray
+    arms_per_decade: int = 2
+    names: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        vals = [np.atleast_1d(np.asarray(getattr(self, nm), float))
+                for nm in ("strengths", "tau_centers", "widths")]
+        if not (vals[0].shape == vals[1].shape == vals[2].shape) or vals[0].ndim != 1 \
+                or vals[0].size == 0:
+            raise InputError("log-normal spectrum needs equally many strengths, centres and "
+                             "widths (at least one component)", field="modulus")
+        if not (np.isfinite(self.E_inf) and self.E_inf > 0):
+            raise InputError("log-normal spectrum needs E_inf > 0", field="modulus.E_inf",
+                             value=self.E_inf)
+        for nm, a in zip(("strength", "tau_center", "width_decades"), vals, strict=True):
+            if not (np.isfinite(a).all() and (a > 0).all()):
+                raise InputError(f"every component's {nm} must be finite and > 0",
+                                 field=f"modulus.component.{nm}", value=a.tolist())
+        if isinstance(self.arms_per_decade, bool) or not isinstance(self.arms_per_decade, int) \
+                or self.arms_per_decade < 1:
+            raise InputError("arms_per_decade must be an integer >= 1",
+                             field="modulus.arms_per_decade", value=self.arms_per_decade)
+        if self.names and len(self.names) != vals[0].size:
+            raise InputError("one name per component", field="modulus.component.name")
+        for nm, a in zip(("strengths", "tau_centers", "widths"), vals, strict=True):
+            object.__setattr__(self, nm, a)
+        arms = [_lognormal_arms(float(dE), float(tc), float(w), self.arms_per_decade)
+                for dE, tc, w in zip(*vals, strict=True)]
+        object.__setattr__(self, "_prony", Prony(self.E_inf, np.concatenate([a[0] for a in arms]),
+                                                 np.concatenate([a[1] for a in arms])))
+
+    @property
+    def prony(self) -> Prony:
+        """The Prony series that samples the spectrum."""
+        return self._prony  # type: ignore[attr-defined]
+
+    @property
+    def E_glassy(self) -> float:
+        """The instantaneous (glassy) modulus E_inf + sum Delta E_i [Pa]."""
+        return float(self.E_inf + self.strengths.sum())
+
+    def storage_loss(self, omega: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(E_R, E_I) [Pa] with E_I = -Im E >= 0 for omega > 0."""
+        return self.prony.storage_loss(omega)
+
+    def describe(self) -> dict:
+        return {"model": "lognormal_spectrum", "E_inf_Pa": self.E_inf,
+                "arms_per_decade": self.arms_per_decade,
+                "components": [
+                    {"name": self.names[i] if self.names else "", "strength_Pa": float(dE),
+                     "tau_center_s": float(tc), "width_decades": float(w)}
+                    for i, (dE, tc, w) in enumerate(zip(self.strengths, self.tau_centers,
+                                                        self.widths, strict=True))],
+                "E_glassy_Pa": self.E_glassy, "n_arms": int(self.prony.E_k.size)}
 
 
 OutsidePolicy = Literal["maxwell", "error"]

@@ -69,7 +69,7 @@ def test_camber_is_mirror_symmetric_and_adds_to_slip(grid):
 def test_camber_stiffness_of_the_shipped_tire_near_the_mf_example(grid):
     """At the nominal load the shipped tire's camber stiffness (camber_reduction from the MF
     example tire's PECP1) is that tire's |C_Fgamma| = Fz |PKY6| = 3.59 kN/rad within 10 %
-    (measured 3.82: the brush grows with a^3, models/tires/passenger.toml)."""
+    (measured 3.83: the brush grows with a^3, models/tires/passenger.toml)."""
     st = SteadyBrush(passenger(), grid)
     out = st.solve(0.0, 0.0, VX, FZ, T20, gamma=0.01)
     assert float(out.Fy) / 0.01 == pytest.approx(FZ * 0.8987, rel=0.10)

@@ -33,7 +33,10 @@ from tirefric.config import read_csv_table
 from tirefric.errors import InputError
 from tirefric.paths import models_dir
 
-SUMMER = (models_dir() / "compounds" / "summer.toml").read_text()
+#: The shipped summer compound's text, its strain-softening table named by its absolute path so
+#: that a copy written elsewhere loads.
+SUMMER = (models_dir() / "compounds" / "summer.toml").read_text().replace(
+    'file = "data/', f'file = "{(models_dir() / "compounds").as_posix()}/data/')
 ASPHALT = (models_dir() / "surfaces" / "asphalt.toml").read_text()
 MASTER = "omega [rad/s],E_storage [MPa],E_loss [MPa]\n0.1,5,0.5\n10,8,2\n1000,50,30\n"
 
@@ -155,9 +158,9 @@ def test_single_relaxation_elastic_limit_loads_and_gives_eq10(tmp_path: Path) ->
 
 def shift_compound(tmp_path: Path, table: str) -> Path:
     (tmp_path / "aT.csv").write_text(table)
-    toml = SUMMER.replace('model = "wlf"\nC1 = 15.0\nC2 = 150.0                # K\n'
-                          'T_ref = "20 degC"',
-                          'model = "tabulated"\nfile = "aT.csv"\nT_ref = "20 degC"')
+    shift = SUMMER[SUMMER.index("[shift]"):SUMMER.index("[softening]")]
+    toml = SUMMER.replace(shift, '[shift]\nmodel = "tabulated"\nfile = "aT.csv"\n'
+                          'T_ref = "20 degC"\n\n')
     p = tmp_path / "shift.toml"
     p.write_text(toml)
     return p

@@ -7,12 +7,13 @@ shipped summer compound's adhesive law shifts with the bulk a_T), so interpolati
 at fixed reduced speed removes that part. Measured on the shipped default grid (cold branch,
 pchip along v; ``T_interp="linear"`` -> ``"reduced_speed"``):
 
-* T and v off-node, p on nodes (600 points): p95 0.69 % -> 0.009 %, max 1.66 % -> 0.82 %;
-  the max sits within 0.2 decade of v_min, where the shifted speed leaves the v axis and the
-  point falls back to fixed-v interpolation; away from the v ends max 1.66 % -> 0.027 %;
-* all three axes off-node (600 points): median 0.135 % -> 0.013 %, p95 0.68 % -> 0.46 %,
-  max 1.23 % -> 0.96 %: what remains is the pressure axis (0.16-decade spacing, up to 0.6 %
-  between the highest pressure nodes) and the v_min edge.
+* T and v off-node, p on nodes (600 points): p95 0.33 % -> 0.006 %, max 1.82 % -> 0.067 %
+  (next to v_min the upper T node alone is read, next to v_max the lower one, both at the
+  query's reduced speed);
+* all three axes off-node (600 points, linear along log10 p): median 0.064 % -> 0.011 %,
+  p95 0.37 % -> 0.32 %, max 1.70 % -> 0.65 %: what remains is the pressure axis (15 nodes;
+  above ~80 C and 1 MPa the compound nears full contact and mu bends in log p), which
+  ``p_interp="pchip"`` removes (``tests/test_grid_interp_p.py``).
 """
 
 from __future__ import annotations
@@ -118,9 +119,9 @@ def test_reduced_speed_keeps_nodes_counts_and_errors() -> None:
 
 
 def test_default_grid_reduced_speed_against_engine() -> None:
-    """Shipped default grid (old file, unchanged): T and v off-node, p on nodes, cold branch.
-    Measured (module docstring): pchip + reduced_speed p95 0.009 %, max 0.027 % away from the
-    v ends (0.82 % within 0.2 decade of v_min); asserted with margin."""
+    """Shipped default grid: T and v off-node, p on nodes, cold branch. Measured (module
+    docstring): pchip + reduced_speed p95 0.006 %, max 0.067 % (also within 0.2 decade of
+    the v ends); asserted with margin."""
     from lookup.grid.build import make_model
     from lookup.grid.spec import load_spec
 

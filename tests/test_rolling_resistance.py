@@ -103,9 +103,14 @@ def test_rises_with_the_loss(tire, compound, rr):
 
 
 def test_falls_with_temperature_on_the_rubbery_side(tire, compound):
+    """f_r and the carcass part fall from 300 to 390 K. The tread part, a compliance loss
+    (Im(1/E) = E''/|E|^2 of a pressure-loaded layer), falls once the tread is rubbery at
+    footprint frequencies; on the flank of the glass transition below ~60 C the shipped summer
+    compound's E' falls faster with T than its tan delta and the tread part rises (measured at
+    22 m/s, 4 kN: 4.6 N/kN at 27 C, 5.9 at 57 C, 4.5 at 107 C)."""
     T = np.linspace(300.0, 390.0, 10)
     res = rrm.rolling_resistance(tire, compound, 22.0, 4000.0, T)
-    assert (np.diff(res.f_tread) < 0).all()
+    assert (np.diff(res.f_tread[T >= 333.0]) < 0).all()
     assert (np.diff(res.f_carcass) < 0).all()
     assert (np.diff(res.f_r) < 0).all()
 

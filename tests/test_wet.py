@@ -302,8 +302,8 @@ def test_adhesive_weight_limits_in_speed(r117):
     # (t = 10 s) the water has left the asperity contacts (w -> 1: the last S node, 0.9999);
     # at high speed there is no time (w -> 0). On this road the smooth-film drainage of a
     # 1 mm macro contact (Stefan's law, lookup.wet.squeeze) is complete within ~0.1 ms (w =
-    # 0.38-0.43 at 1 us, 0.78-0.88 at 10 us; 20 C, 0.3 MPa), so w leaves 1 only at speeds beyond a
-    # tire's (measured at 80 C, 0.3 MPa: 0.94 at 1e2, 0.56 at 1e3, 0.005 at 1e5 m/s): the
+    # 0.34-0.51 at 1 us, 0.75-0.95 at 10 us; 20 C, 0.3 MPa), so w leaves 1 only at speeds beyond a
+    # tire's (measured at 80 C, 0.3 MPa: 0.94 at 1e2, 0.61 at 1e3, 0.03 at 1e5 m/s): the
     # limit of the model is tested here, not a physical speed.
     dry, _, _ = r117
     wet = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3), sealing=SMALL)
@@ -312,11 +312,16 @@ def test_adhesive_weight_limits_in_speed(r117):
     w = wet.last_w
     assert w[0] >= 0.9999 - 1e-12 and w[-1] < 0.01, w
     assert np.all(np.diff(w) <= 1e-12), w
-    # the grid's dry share: 1 at the longest drainage time, falling towards the shortest
-    _, _, g = r117
+    # the grid's dry share: 1 at the longest drainage time where the real contact is partial,
+    # falling towards the shortest. Where the soft rubber nearly closes the gap (A/A0 > 0.7:
+    # creep speeds at 1.2-2 MPa on the shipped summer compound, 8 % of the nodes) the film
+    # left between the contacts is so thin that 1 s drains only part of it (w 0.50-0.99)
+    _, dry_grid, g = r117
     wd = g.variables["w_dry"][1]
     assert np.all(np.diff(wd, axis=0) >= -1e-12), "w_dry must grow with the drainage time"
-    assert wd[-1].min() > 0.99
+    partial = dry_grid["area_cold"] < 0.7
+    assert wd[-1][partial].min() > 0.99
+    assert wd[-1][~partial].min() > 0.4
 
 
 def test_wet_end_points_equal_the_forced_weights():
@@ -383,8 +388,10 @@ def test_sealing_lowers_the_viscoelastic_term_as_in_the_papers(r117):
     # Measured here (20 C, 0.2-0.3 MPa, 0.01-1 m/s): 0.69-0.71 with the shipped settings; the
     # construction's stated uncertainty (percolation threshold 0.35-0.5: 0.61-0.75,
     # docs/physics.md sec. 7a) sets the band 0.6-0.8. With the adhesive term off (soapy water)
-    # the total is that ratio; with water the shipped compound's low-speed friction is 98 %
-    # adhesive and squeezed dry, so the total stays within 1 % of dry at 0.01 m/s.
+    # the total is that ratio; with water the real contact is squeezed dry at 0.01 m/s, so the
+    # adhesive term keeps its dry value and the total is share + (1 - share) x ratio, with the
+    # adhesive share of the dry friction (90 % on the shipped summer compound: the total
+    # falls by 3 %).
     dry, _, _ = r117
     v = np.array([0.01, 0.1, 1.0])
     soap = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3),
@@ -397,7 +404,10 @@ def test_sealing_lowers_the_viscoelastic_term_as_in_the_papers(r117):
         assert np.all((ratio > 0.6) & (ratio < 0.8)), (p, ratio)
         w = wet.cold(v, 293.15, p)
         np.testing.assert_allclose(w.mu_visc, s.mu_visc, rtol=1e-12)
-        assert d.mu_cont[0] / d.mu[0] > 0.95 and w.mu[0] / d.mu[0] > 0.99, (p, w.mu, d.mu)
+        share = d.mu_cont[0] / d.mu[0]
+        assert w.mu[0] / d.mu[0] == pytest.approx(share + (1 - share) * ratio[0], rel=1e-3), \
+            (p, w.mu, d.mu)
+        assert w.mu[0] < d.mu[0], "water lowers the total at low speed"
 
 
 def test_temperature_signs_of_the_two_terms(r117):

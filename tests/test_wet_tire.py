@@ -74,15 +74,21 @@ def test_transient_on_water_settles_on_the_steady_wet_brush(grid, wet):
     """Braking at 15 m/s on 1 mm of water (no lift: the grooves and texture hold 3.1 mm):
     the transient force settles within 1 % of Fz (the defaults' convergence bound,
     docs/tire-core.md) on the steady brush with the wet branch at the same drainage time,
-    and well below the dry road's."""
+    and well below the dry road's. The tread rings on the shipped summer compound (stick-slip,
+    std 0.9 % of Fz step to step after 0.5 s), so the force is the mean of the last 100 ms of
+    0.6 s (measured 0.1 % of Fz from the steady brush; a single step at 0.3 s was 1.3 %)."""
     tire = passenger()
     vx, kappa = 15.0, -0.1
-    out = _run(_tire(grid, wet), 300, vx, kappa, 1e-3)
+    tr = _tire(grid, wet)
+    _run(tr, 500, vx, kappa, 1e-3)
+    outs = [_run(tr, 1, vx, kappa, 1e-3) for _ in range(100)]
+    Fx = float(np.mean([o.Fx for o in outs]))
     a, _ = tire.patch.size(FZ)
     t_drain = 2.0 * a / abs(vx * (1.0 + kappa))
     table = wet_branch_table(grid, wet, 1e-3, t_drain)
-    ss = SteadyBrush(tire, table).solve(kappa, 0.0, vx, FZ, float(out.T_tread))
-    assert out.Fx / FZ == pytest.approx(float(ss.Fx) / FZ, abs=1e-2)
+    ss = SteadyBrush(tire, table).solve(kappa, 0.0, vx, FZ, float(outs[-1].T_tread))
+    assert Fx / FZ == pytest.approx(float(ss.Fx) / FZ, abs=1e-2)
+    out = outs[-1]
     dry = _run(TransientBrushTire(tire, grid), 300, vx, kappa, 0.0)
     assert out.Fx > dry.Fx + 0.05 * FZ, "water lowers the braking force"
 
