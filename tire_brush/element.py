@@ -1182,9 +1182,9 @@ class RefTire:
                     rv = 1.0
                 Fz_road = (1.0 - sd * rv) * Fz
             a, b = patch_size(p, Fz_road)
-            if wet is not None and a > 0.0:   # drainage time: drain_scale t_footprint
-                lt_drain = (math.log10(wet.drain_scale * (2.0 * a / abs(V_r))) if V_r != 0.0
-                            else math.inf)
+            if wet is not None and a > 0.0:   # drainage time: drain_scale t_footprint at
+                U = 0.5 * (abs(vx) + abs(V_r))    # the entrainment speed (wet_friction)
+                lt_drain = math.log10(wet.drain_scale * (2.0 * a / U)) if U > 0.0 else math.inf
             # camber: the base spins at -(1 - eps) omega sin(gamma)
             wc = -(1.0 - p.camber_reduction) * omega * math.sin(gamma)
             # rolling resistance at the start of the step, held over it
