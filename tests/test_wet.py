@@ -319,9 +319,11 @@ def test_adhesive_weight_limits_in_speed(r117):
     _, _, g = r117
     wd = g.variables["w_dry"][1]
     assert np.all(np.diff(wd, axis=0) >= -1e-12), "w_dry must grow with the drainage time"
-    # at the longest drainage time the macro contact has drained everywhere: what is left
-    # is the asperity share, which falls with the slip speed
-    assert np.all(np.diff(wd[-1], axis=0) <= 1e-12), "w_dry must fall with the slip speed"
+    # at the longest drainage time and above 1 cm/s the macro contact has drained (below,
+    # at 0 C and 2 MPa, G(q) still changes with v and so does its drainage): what is left is
+    # the asperity share, which falls with the slip speed
+    fast = g.axes["log10_v"] >= -2.0
+    assert np.all(np.diff(wd[-1, fast], axis=0) <= 1e-12), "w_dry must fall with the slip speed"
 
 
 def test_wet_end_points_equal_the_forced_weights():
