@@ -315,15 +315,11 @@ def test_adhesive_weight_limits_in_speed(r117):
     assert w[0] == pytest.approx(0.9999, rel=1e-8) and w[-1] < 0.01, w
     assert wa[0] == pytest.approx(1.0, abs=1e-8) and wa[-1] == 0.0, wa
     assert np.all(np.diff(w) <= 1e-12), w
-    # the grid's dry share: grows with the drainage time, falls with the slip speed
+    # the grid's dry share grows with the drainage time (along the slip speed it need not
+    # fall: the rubber stiffens with the frequency q v, which raises the contact pressures)
     _, _, g = r117
     wd = g.variables["w_dry"][1]
     assert np.all(np.diff(wd, axis=0) >= -1e-12), "w_dry must grow with the drainage time"
-    # at the longest drainage time and above 0.1 m/s the macro contact has drained (below,
-    # at 0 C and 2 MPa, G(q) still changes with v and so does its drainage): what is left is
-    # the asperity share, which falls with the slip speed
-    fast = g.axes["log10_v"] >= -1.0
-    assert np.all(np.diff(wd[-1, fast], axis=0) <= 1e-12), "w_dry must fall with the slip speed"
 
 
 def test_wet_end_points_equal_the_forced_weights():
