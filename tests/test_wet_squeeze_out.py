@@ -183,7 +183,7 @@ def test_friction_never_rises_with_water_depth_on_the_grid(grids):
     the sealed road's smaller viscoelastic heat leaves the interface cooler and the adhesive
     stress higher, by at most 2.5 % of the dry value on this grid (measured 1.7 %; docs/
     physics.md sec. 7a); the tire (below) never gains force from water."""
-    dry, wet = grids
+    _, wet = grids
     lv, T, lp = (wet.axes[n] for n in ("log10_v", "T", "log10_p"))
     V, TT, P = np.meshgrid(10.0**lv, T, 10.0**lp, indexing="ij")
     depths = np.concatenate([wet.axes["water_depth"], [2e-3, 4e-3]])
