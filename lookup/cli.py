@@ -7,6 +7,8 @@ They register with the root parser (:mod:`tirefric.cli`) through the entry point
 from __future__ import annotations
 
 import argparse
+import sys
+import warnings
 
 import numpy as np
 
@@ -18,7 +20,7 @@ from tirefric.cli import (
     parse_temperature_option,
     print_table,
 )
-from tirefric.errors import InputError
+from tirefric.errors import ExtrapolationWarning, InputError
 
 
 def add_engine_options(p: argparse.ArgumentParser) -> None:
@@ -94,7 +96,7 @@ def register_mu(sub: argparse._SubParsersAction) -> None:
 
 def _run_mu(args: argparse.Namespace) -> int:
     from .compound import load_compound
-    from .friction import PerssonFriction
+    from .friction import OUTSIDE_WARNING_SHARE, PerssonFriction
     from .surface import load_surface
 
     v = parse_float_list(args.v, "--v")
@@ -107,18 +109,34 @@ def _run_mu(args: argparse.Namespace) -> int:
         raise InputError("nominal pressure must be > 0 Pa", source="--p", value=args.p)
     model = PerssonFriction(load_compound(args.compound), load_surface(args.surface),
                             engine_settings(args))
-    if args.branch == "both":
-        columns = model.mu_table(v, T, p)
-        keys = MU_KEYS
-    else:
-        r = (model.cold if args.branch == "cold" else model.hot)(np.asarray(v, float), T, p)
-        b = args.branch
-        columns = (np.asarray(v, float), r.mu, r.mu_visc, r.mu_cont, r.area) + (
-            (r.dT_flash,) if b == "hot" else ())
-        keys = ("v", f"mu_{b}", f"mu_visc_{b}", f"mu_cont_{b}", f"area_{b}") + (
-            ("dT_flash",) if b == "hot" else ())
+    va = np.asarray(v, float)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ExtrapolationWarning)
+        if args.branch == "both":
+            c, h = model.cold_and_hot(va, T, p)
+            columns = (va, c.mu, h.mu, c.mu_visc, c.mu_cont, c.area, h.area, h.dT_flash)
+            keys = MU_KEYS
+            shares = {"outside_cold": c.outside, "outside_hot": h.outside}
+        else:
+            r = (model.cold if args.branch == "cold" else model.hot)(va, T, p)
+            b = args.branch
+            columns = (va, r.mu, r.mu_visc, r.mu_cont, r.area) + (
+                (r.dT_flash,) if b == "hot" else ())
+            keys = ("v", f"mu_{b}", f"mu_visc_{b}", f"mu_cont_{b}", f"area_{b}") + (
+                ("dT_flash",) if b == "hot" else ())
+            shares = {f"outside_{b}": r.outside}
+    notes = [str(w.message) for w in caught if issubclass(w.category, ExtrapolationWarning)]
+    for w in caught:  # anything else goes on as it came
+        if not issubclass(w.category, ExtrapolationWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     rows = [{k: float(c[i]) for k, c in zip(keys, columns, strict=True)}
             for i in range(len(v))]
+    band = model.band
+    if args.json or band is not None:  # a tabulated curve: the shares are columns too
+        for i, row in enumerate(rows):
+            row.update({k: float(a[i]) for k, a in shares.items()})
+        if band is not None:
+            keys = tuple(keys) + tuple(shares)
     wet_desc = None
     if args.water is not None or args.eta is not None or args.lubricant != "water":
         wet_desc, wet_cols = _wet_columns(args, model, v, T, p)
@@ -137,14 +155,26 @@ def _run_mu(args: argparse.Namespace) -> int:
             out["hot_residual_K"] = model.last_hot_residual
         if freq:
             out["master_curve_frequency_column"] = freq
+        out["measured_band_rad_s"] = (None if band is None
+                                      else [10.0 ** band[0], 10.0 ** band[1]])
+        out["outside_warning_share"] = OUTSIDE_WARNING_SHARE
+        out["warnings"] = notes
         if wet_desc is not None:
             out["wet"] = wet_desc
         dump_json(out)
+        for note in notes:
+            print(f"tirefric mu: warning: {note}", file=sys.stderr)
     else:
         print(f"# compound {model.compound.name}, surface {model.surface.name}, T = {T_C:g} C, "
               f"p = {p:g} Pa, q1 = {model.q1:.4g} 1/m")
         if freq:
             print(f"# master curve frequency column: {freq}")
+        if band is not None:
+            print(f"# measured master curve: {10.0 ** band[0]:.4g}..{10.0 ** band[1]:.4g} "
+                  "rad/s at T_ref; outside_*: share of each result's integrand from outside "
+                  "it (docs/engine-inputs.md)")
+        for note in notes:
+            print(f"# warning: {note}")
         if wet_desc is not None:
             print(f"# wet: water film {wet_desc['water_depth_m']:g} m, lubricant "
                   f"{wet_desc['lubricant']['name']}, squeeze-out time D/v (sliding block)")

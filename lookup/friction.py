@@ -35,17 +35,41 @@ not reported. Points that Aitken's rule has not converged after ``aitken_iter`` 
 (near the fold of an S-shaped response the factor can oscillate between regimes) restart from
 the cold state with a fixed relaxation, which converges there. The final max-norm residual
 |F(dT) - dT| [K] is reported with every hot result.
+
+Strain softening (review eq. 6) enters as factors on E_R and E_I. Factors that do not depend
+on the temperature are part of the tabulated master curve (so the cold branch stays a
+function of v a_T: time-temperature superposition); factors from strain sweeps measured at
+several temperatures are applied at the temperature each scale feels (T0 on the cold branch,
+T0 + dT_q on the hot one).
+
+Extrapolation accounting (docs/engine-inputs.md, "What a result took from outside the
+data"). A tabulated master curve is known on a measured band of frequencies; every result
+reports the share of its integrand evaluated outside it, at the reduced frequencies
+omega = q v cos(phi) a_T(T_q) of the quadrature nodes:
+
+* ``outside_visc``: the share of eq. (17) whose angular integrand comes from nodes outside
+  the band, i.e. eq. (17) evaluated with E_I set to zero inside the band, divided by
+  mu_visc (the same G(q), P(q) and S(q) weights);
+* ``outside_area``: the same share of G(q1) (eq. 19, the |E|^2 integrand), on which the
+  contact area P(q1) and hence the adhesive term depend;
+* ``outside``: the share of mu, (mu_visc outside_visc + mu_cont outside_area) / mu.
+
+A model without a measured band (Prony, single relaxation) reports 0. Above
+:data:`OUTSIDE_WARNING_SHARE` the public methods warn (:class:`tirefric.errors.
+ExtrapolationWarning`); with the master curve's ``outside = "error"`` they refuse the points
+whose integrands reach outside the band (any share > 0), naming the frequencies they need.
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
 
 from tirefric import __version__
-from tirefric.errors import InputError
+from tirefric.errors import ExtrapolationWarning, InputError
 
 from .compound import Compound
 from .contact import Phi, area_rescale, contact_fraction
@@ -54,6 +78,21 @@ from .surface import Surface
 
 #: Contact-area laws offered by :class:`EngineSettings` (``contact_area``).
 CONTACT_AREA_LAWS: tuple[str, ...] = ("persson", "rescaled_kappa")
+
+#: A result whose share of integrand from outside the measured band (``outside``, module
+#: docstring) exceeds this warns. The part taken from outside follows the Maxwell asymptotes
+#: of the curve's ends (lookup.modulus.TabulatedMasterCurve), which can be off by a factor of
+#: order one (below the data E'' falls in proportion to omega, where a filled tread compound
+#: keeps tan delta near 0.1-0.3 over many decades of its rubbery side), so a 5 % share can
+#: move the result by a few percent: the scatter of measured master curves and friction
+#: data. Below it the extrapolation does not matter at that level.
+OUTSIDE_WARNING_SHARE = 0.05
+
+#: Keys of an evaluation that the flash-temperature iteration carries along.
+_PARTS = ("mu_visc", "mu_cont", "area", "dmu_w", "P_m")
+#: Keys of the extrapolation accounting (module docstring).
+OUTSIDE_KEYS = ("outside", "outside_visc", "outside_area")
+_OUTSIDE_ALL = (*OUTSIDE_KEYS, "log10_omega_min", "log10_omega_max")
 
 
 @dataclass(frozen=True)
@@ -167,6 +206,10 @@ class FrictionResult:
         Max-norm residual of the flash-temperature fixed point [K] (0 on the cold branch).
     iterations : numpy.ndarray
         Fixed-point iterations used.
+    outside, outside_visc, outside_area : numpy.ndarray
+        Share of the integrand of mu, of mu_visc (eq. 17) and of G(q1) (eq. 19) evaluated at
+        frequencies outside the master curve's measured band (module docstring); 0 for a
+        model without a band.
     """
 
     mu: np.ndarray
@@ -177,6 +220,9 @@ class FrictionResult:
     dT_max: np.ndarray
     residual: np.ndarray
     iterations: np.ndarray
+    outside: np.ndarray
+    outside_visc: np.ndarray
+    outside_area: np.ndarray
 
     def reshape(self, shape: tuple[int, ...]) -> FrictionResult:
         return FrictionResult(**{k: np.reshape(v, shape) for k, v in asdict(self).items()})
@@ -227,7 +273,10 @@ class PerssonFriction:
         self.cos_phi = np.cos(phi)
         self.w_phi = 0.25 * np.pi * wx
         self.log10_qcos = np.log10(self.q)[:, None] + np.log10(self.cos_phi)[None, :]
-        self.table = self.compound.modulus_table(s.modulus_per_decade)
+        # softening factors that depend on T are applied per scale (module docstring)
+        self.soft_T = self.compound.softening_varies_with_T
+        self.table = self.compound.modulus_table(s.modulus_per_decade, softened=not self.soft_T)
+        self.band = self.table.log10_band
         self.inv_1mnu2 = 1.0 / (1.0 - self.compound.nu**2)
         # macroasperity wavenumber q_m = pi / D, clamped to the resolved band; a cold-only
         # study (no [macroasperity] or no rubber [thermal]) leaves the hot-branch data unset
@@ -270,42 +319,94 @@ class PerssonFriction:
         """Everything needed to trace a number back: inputs, rule, settings, version."""
         return {"compound": self.compound.describe(), "surface": self.surface.describe(),
                 "settings": asdict(self.settings), "q0_per_m": self.q0, "q1_per_m": self.q1,
+                "measured_band_rad_s": None if self.band is None else
+                [10.0 ** self.band[0], 10.0 ** self.band[1]],
                 "q1_rule": self.surface.cutoff.describe(), "D_m": self.D,
                 "s0_m": None if self.D is None else self.s0,
                 "q_m_per_m": self.q_m, "road_image_R": self.R_image,
                 "n_q": int(self.q.size), "tirefric_version": __version__}
 
     # -- the integrals ------------------------------------------------------------------------
-    def _angular(self, v: np.ndarray, log10_aT: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _angular(self, v: np.ndarray, log10_aT: np.ndarray, T_q: np.ndarray | None = None,
+                 outside: bool = False) -> tuple[np.ndarray, ...]:
         """Angular integrals at every q (Trap 3), normalised by (1 - nu^2).
 
         Returns (A_I, A_2), shape (B, nq): A_I = int_0^2pi cos(phi) E_I*/... dphi and
-        A_2 = int_0^2pi |E*|^2 dphi with E* = E/(1-nu^2).
+        A_2 = int_0^2pi |E*|^2 dphi with E* = E/(1-nu^2). ``T_q`` (B, nq) [K] are the
+        temperatures of the scales, needed when the softening depends on T (module
+        docstring). With ``outside`` (and a measured band) also the parts of A_I and A_2
+        from nodes outside the band and, per point, the lowest and highest log10 omega
+        needed: (A_I, A_2, A_I_out, A_2_out, lw_min, lw_max).
         """
         lw = (np.log10(v)[:, None, None] + self.log10_qcos[None, :, :]
               + log10_aT[:, :, None])
         ER, EI = self.table(lw)
+        if self.soft_T:
+            if T_q is None:
+                raise InputError("the softening depends on the temperature: the angular "
+                                 "integrals need the scales' temperatures", field="softening")
+            eta_R, eta_I = self.compound.softening_at(T_q)
+            ER = ER * eta_R[:, :, None]
+            EI = EI * eta_I[:, :, None]
         c = self.inv_1mnu2
-        A_I = 4.0 * c * np.einsum("bqk,k->bq", EI, self.w_phi * self.cos_phi)
-        A_2 = 4.0 * c * c * np.einsum("bqk,k->bq", ER * ER + EI * EI, self.w_phi)
-        return A_I, A_2
+        wI = self.w_phi * self.cos_phi
+        A_I = 4.0 * c * np.einsum("bqk,k->bq", EI, wI)
+        E2 = ER * ER + EI * EI
+        A_2 = 4.0 * c * c * np.einsum("bqk,k->bq", E2, self.w_phi)
+        if not (outside and self.band is not None):
+            return A_I, A_2
+        out = self.table.outside_band(lw)
+        A_I_out = 4.0 * c * np.einsum("bqk,k->bq", np.where(out, EI, 0.0), wI)
+        A_2_out = 4.0 * c * c * np.einsum("bqk,k->bq", np.where(out, E2, 0.0), self.w_phi)
+        return A_I, A_2, A_I_out, A_2_out, lw.min(axis=(1, 2)), lw.max(axis=(1, 2))
 
     def _temperatures(self, T0: np.ndarray, dT: np.ndarray | None
-                      ) -> tuple[np.ndarray, np.ndarray]:
-        """log10 a_T felt by every scale (B, nq) and the surface temperature (B,) [K]: the
-        background ``T0`` on the cold branch (``dT`` None), ``T0`` plus the flash rise of
-        each scale's depth and of the surface on the hot one (sec. 5.1, docs/physics.md
-        sec. 3)."""
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """log10 a_T felt by every scale (B, nq), the surface temperature (B,) [K] and the
+        scales' temperatures (B, nq) [K]: the background ``T0`` on the cold branch (``dT``
+        None), ``T0`` plus the flash rise of each scale's depth and of the surface on the
+        hot one (sec. 5.1, docs/physics.md sec. 3)."""
         if dT is None:
-            return (np.broadcast_to(self.compound.log10_aT(T0)[:, None], (T0.size, self.q.size)),
-                    T0)
-        return self.compound.log10_aT(T0[:, None] + dT[:, 1:]), T0 + dT[:, 0]
+            shape = (T0.size, self.q.size)
+            return (np.broadcast_to(self.compound.log10_aT(T0)[:, None], shape), T0,
+                    np.broadcast_to(T0[:, None], shape))
+        T_q = T0[:, None] + dT[:, 1:]
+        return self.compound.log10_aT(T_q), T0 + dT[:, 0], T_q
+
+    def _outside_shares(self, ang: tuple[np.ndarray, ...], g: np.ndarray, gg: np.ndarray,
+                        dPhi: np.ndarray, sigma0: np.ndarray, mu_visc: np.ndarray,
+                        mu_cont: np.ndarray, G_end: np.ndarray) -> dict[str, np.ndarray]:
+        """The extrapolation shares of one evaluation (module docstring).
+
+        ``ang`` is what :meth:`_angular` returns with ``outside``; ``g`` = dG/dln q, ``gg``
+        its interval sums and ``dPhi`` the intervals' Phi(G) increments, as in
+        :meth:`_evaluate`; ``G_end`` = G(q1)."""
+        zero = np.zeros(mu_visc.shape)
+        if len(ang) == 2:  # no measured band: nothing comes from outside it
+            return {"outside": zero, "outside_visc": zero, "outside_area": zero}
+        _, A_2, A_I_out, A_2_out, lw_min, lw_max = ang
+        ag = A_I_out / A_2 * g  # eq. (17) with E_I = 0 inside the band, same weights
+        with np.errstate(invalid="ignore", divide="ignore"):
+            rho = np.where(gg > 0, (ag[:, 1:] + ag[:, :-1]) / gg, 0.0)
+            visc = (4.0 * sigma0[:, None] * rho * dPhi).sum(axis=1)
+            g_out = g * (A_2_out / A_2)  # eq. (19) from the nodes outside the band
+            G_out = (0.5 * (g_out[:, 1:] + g_out[:, :-1]) * self.dl).sum(axis=1)
+            s_visc = np.where(mu_visc > 0, visc / mu_visc, 0.0)
+            s_area = np.where(G_end > 0, G_out / G_end, 0.0)
+            mu = mu_visc + mu_cont
+            s_mu = np.where(mu > 0, (visc + mu_cont * s_area) / mu, 0.0)
+        # shares of sums of non-negative terms: in [0, 1] up to rounding
+        return {"outside": np.clip(s_mu, 0.0, 1.0), "outside_visc": np.clip(s_visc, 0.0, 1.0),
+                "outside_area": np.clip(s_area, 0.0, 1.0), "log10_omega_min": lw_min,
+                "log10_omega_max": lw_max}
 
     def _evaluate(self, v: np.ndarray, T0: np.ndarray, sigma0: np.ndarray,
-                  dT: np.ndarray | None) -> dict[str, np.ndarray]:
-        """Friction at flat arrays (B,) with flash temperatures dT (B, nq+1) or None (cold)."""
-        la, T_surf = self._temperatures(T0, dT)
-        A_I, A_2 = self._angular(v, la)
+                  dT: np.ndarray | None, outside: bool = False) -> dict[str, np.ndarray]:
+        """Friction at flat arrays (B,) with flash temperatures dT (B, nq+1) or None (cold);
+        with ``outside`` also the extrapolation shares (:meth:`_outside_shares`)."""
+        la, T_surf, T_q = self._temperatures(T0, dT)
+        ang = self._angular(v, la, T_q, outside)
+        A_I, A_2 = ang[0], ang[1]
         s2 = (1.0 / sigma0**2)[:, None]
         g = 0.125 * self.F * A_2 * s2  # dG/dln q, eq. (19)
         gg = g[:, 1:] + g[:, :-1]
@@ -334,8 +435,12 @@ class PerssonFriction:
         i = self.i_m
         f = (np.log(self.q_m) - np.log(self.q[i - 1])) / self.dl[i - 1]
         P_m = P[:, i - 1] + f * (P[:, i] - P[:, i - 1])
-        return {"mu_visc": mu_visc, "mu_cont": mu_cont, "area": area, "dmu_w": dmu_w,
-                "P_m": P_m}
+        out = {"mu_visc": mu_visc, "mu_cont": mu_cont, "area": area, "dmu_w": dmu_w,
+               "P_m": P_m}
+        if outside:
+            out.update(self._outside_shares(ang, g, gg, np.diff(PhiG, axis=1), sigma0, mu_visc,
+                                            mu_cont, G[:, -1]))
+        return out
 
     def _kernel(self, v: float) -> np.ndarray:
         """Heat kernel with lateral factor for speed v (cached), shape (nq+1, nq+1)."""
@@ -374,9 +479,14 @@ class PerssonFriction:
         B, n = v.size, self.q.size + 1
         uv, inv = np.unique(v, return_inverse=True)
         kernels = np.stack([self._kernel(x) for x in uv])
+        # with a measured band every evaluation also gives the extrapolation shares (the
+        # table lookups dominate its cost, the shares add two masked sums), so the final
+        # iterate's are at hand
+        track = self.band is not None
+        keys = _PARTS + (_OUTSIDE_ALL if track else ())
 
         def F(x: np.ndarray, idx: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-            parts = self._evaluate(v[idx], T0[idx], sigma0[idx], x)
+            parts = self._evaluate(v[idx], T0[idx], sigma0[idx], x, outside=track)
             W = self.heat_sources(v[idx], sigma0[idx], parts)
             return np.einsum("bij,bj->bi", kernels[inv[idx]], W), parts
 
@@ -384,7 +494,7 @@ class PerssonFriction:
         if cold is None:
             fx, parts = F(x, np.arange(B))
         else:
-            parts = {k: a.copy() for k, a in cold.items()}  # the loop updates it in place
+            parts = {k: cold[k].copy() for k in keys}  # the loop updates it in place
             W = self.heat_sources(v, sigma0, parts)
             fx = np.einsum("bij,bj->bi", kernels[inv], W)
         res = fx - x
@@ -431,7 +541,8 @@ class PerssonFriction:
             rnorm[idx] = np.abs(rn).max(axis=1)
             iters[idx] += 1
             active = rnorm > s.hot_tol
-        # report the friction at the final iterate together with its residual
+        # report the friction at the final iterate together with its residual (and, with a
+        # measured band, the extrapolation shares at the final temperatures)
         return x, rnorm, iters, parts
 
     # -- public API -----------------------------------------------------------------------------
@@ -447,50 +558,108 @@ class PerssonFriction:
                                  value=float(a[np.flatnonzero(bad)[0]]))
         return shape, v, T0, sigma0
 
-    def cold(self, v: Any, T0: Any, sigma0: Any) -> FrictionResult:
+    def cold(self, v: Any, T0: Any, sigma0: Any, *, warn: bool = True) -> FrictionResult:
         """Cold branch (no flash heating) at slip speed v [m/s], temperature T0 [K] and nominal
-        pressure sigma0 [Pa]; arrays broadcast. Review eqs. (17)-(21)."""
+        pressure sigma0 [Pa]; arrays broadcast. Review eqs. (17)-(21). ``warn``: whether a
+        large share of the integrand from outside the measured master curve warns (module
+        docstring; the share is in the result either way)."""
         shape, v, T0, sigma0 = self._prepare(v, T0, sigma0)
-        return self._cold_result(self._evaluate(v, T0, sigma0, None), shape)
+        c = self._evaluate(v, T0, sigma0, None, outside=self.band is not None)
+        self._account(c, v, T0, sigma0, "cold", warn)
+        return self._cold_result(c, shape)
 
-    def hot(self, v: Any, T0: Any, sigma0: Any) -> FrictionResult:
+    def hot(self, v: Any, T0: Any, sigma0: Any, *, warn: bool = True) -> FrictionResult:
         """Hot branch: flash temperature fully developed and self-consistent (module docstring
-        and :mod:`lookup.flash_temperature`); residual [K] reported per point."""
+        and :mod:`lookup.flash_temperature`); residual [K] reported per point. ``warn`` as in
+        :meth:`cold`."""
         self._require_hot()
         shape, v, T0, sigma0 = self._prepare(v, T0, sigma0)
-        return self._hot_result(self._fixed_point(v, T0, sigma0), shape)
+        solved = self._fixed_point(v, T0, sigma0)
+        self._account(solved[3], v, T0, sigma0, "hot", warn)
+        return self._hot_result(solved, shape)
 
-    def cold_and_hot(self, v: Any, T0: Any, sigma0: Any
+    def cold_and_hot(self, v: Any, T0: Any, sigma0: Any, *, warn: bool = True
                      ) -> tuple[FrictionResult, FrictionResult]:
         """Both branches; the hot solve starts from the cold evaluation (its dT = 0 state)
-        instead of repeating it. Same numbers as :meth:`cold` and :meth:`hot`."""
+        instead of repeating it. Same numbers as :meth:`cold` and :meth:`hot`. ``warn``:
+        whether a large extrapolation share warns (module docstring; a grid build reports it
+        in the grid instead)."""
         self._require_hot()
         shape, v, T0, sigma0 = self._prepare(v, T0, sigma0)
-        c = self._evaluate(v, T0, sigma0, None)
-        return (self._cold_result(c, shape),
-                self._hot_result(self._fixed_point(v, T0, sigma0, cold=c), shape))
+        c = self._evaluate(v, T0, sigma0, None, outside=self.band is not None)
+        self._account(c, v, T0, sigma0, "cold", warn)
+        solved = self._fixed_point(v, T0, sigma0, cold=c)
+        self._account(solved[3], v, T0, sigma0, "hot", warn)
+        return self._cold_result(c, shape), self._hot_result(solved, shape)
+
+    def _account(self, p: dict[str, np.ndarray], v: np.ndarray, T0: np.ndarray,
+                 sigma0: np.ndarray, branch: str, warn: bool = True) -> None:
+        """Refuse (master curve's ``outside = "error"``) or warn about the points whose
+        integrands reach outside the measured band (module docstring)."""
+        if self.band is None or "outside" not in p:
+            return
+        lo, hi = (10.0 ** b for b in self.band)
+        needs = (p["outside_visc"] > 0) | (p["outside_area"] > 0)
+        if self.table.outside == "error" and needs.any():
+            bad = np.flatnonzero(needs)
+            pts = "; ".join(
+                f"v = {v[i]:.4g} m/s, T = {T0[i] - 273.15:.4g} C, p = {sigma0[i]:.4g} Pa: "
+                f"omega a_T from {10 ** p['log10_omega_min'][i]:.3g} to "
+                f"{10 ** p['log10_omega_max'][i]:.3g} rad/s, {100 * p['outside'][i]:.3g} % "
+                "of the integrand outside" for i in bad[:3])
+            more = f" (and {bad.size - 3} more)" if bad.size > 3 else ""
+            raise InputError(
+                f"{bad.size} of {v.size} point(s) of the {branch} branch need the master "
+                f"curve outside its data ({lo:.3g}..{hi:.3g} rad/s at T_ref), and its policy "
+                f"is 'error': {pts}{more}. Measure further, or set outside = \"maxwell\" "
+                "(then the share taken from outside is reported with each result)",
+                source=self.table.source or self.compound.source or None,
+                field="modulus.outside", value="error")
+        worst = int(np.argmax(p["outside"])) if p["outside"].size else 0
+        if warn and p["outside"].size and p["outside"][worst] > OUTSIDE_WARNING_SHARE:
+            n = int((p["outside"] > OUTSIDE_WARNING_SHARE).sum())
+            warnings.warn(ExtrapolationWarning(
+                f"{self.compound.source or self.compound.name}: {n} of {v.size} point(s) of "
+                f"the {branch} branch take more than {100 * OUTSIDE_WARNING_SHARE:g} % of "
+                f"their friction integrand from outside the measured master curve "
+                f"({lo:.3g}..{hi:.3g} rad/s at T_ref; Maxwell asymptotes there): up to "
+                f"{100 * p['outside'][worst]:.3g} % at v = {v[worst]:.4g} m/s, "
+                f"T = {T0[worst] - 273.15:.4g} C, p = {sigma0[worst]:.4g} Pa "
+                "(docs/engine-inputs.md)"), stacklevel=3)
 
     @staticmethod
-    def _cold_result(p: dict[str, np.ndarray], shape: tuple[int, ...]) -> FrictionResult:
+    def _shares(p: dict[str, np.ndarray]) -> tuple[np.ndarray, ...]:
+        z = np.zeros_like(p["mu_visc"])
+        return tuple(p.get(k, z) for k in OUTSIDE_KEYS)
+
+    @classmethod
+    def _cold_result(cls, p: dict[str, np.ndarray], shape: tuple[int, ...]) -> FrictionResult:
         z = np.zeros_like(p["mu_visc"])
         return FrictionResult(p["mu_visc"] + p["mu_cont"], p["mu_visc"], p["mu_cont"],
-                              p["area"], z, z, z, np.zeros(z.size, int)).reshape(shape)
+                              p["area"], z, z, z, np.zeros(z.size, int),
+                              *cls._shares(p)).reshape(shape)
 
     def _hot_result(self, solved: tuple, shape: tuple[int, ...]) -> FrictionResult:
         x, rnorm, iters, p = solved
         self.last_hot_residual = float(rnorm.max()) if rnorm.size else 0.0
         return FrictionResult(p["mu_visc"] + p["mu_cont"], p["mu_visc"], p["mu_cont"],
-                              p["area"], x[:, 0], x.max(axis=1), rnorm, iters).reshape(shape)
+                              p["area"], x[:, 0], x.max(axis=1), rnorm, iters,
+                              *self._shares(p)).reshape(shape)
 
     def grid_slice(self, v: float, T0: np.ndarray, sigma0: np.ndarray) -> dict[str, np.ndarray]:
-        """All grid variables at one slip speed over T0 (nT,) x sigma0 (np,) -> (nT, np)."""
+        """All grid variables at one slip speed over T0 (nT,) x sigma0 (np,) -> (nT, np), with
+        the extrapolation shares ``outside_cold``, ``outside_hot`` (module docstring) when the
+        master curve has a measured band."""
         T = np.asarray(T0, float)[:, None]
         p = np.asarray(sigma0, float)[None, :]
-        c, h = self.cold_and_hot(v, T, p)
-        return {"mu_cold": c.mu, "mu_hot": h.mu, "mu_visc_cold": c.mu_visc,
-                "mu_cont_cold": c.mu_cont, "mu_visc_hot": h.mu_visc, "mu_cont_hot": h.mu_cont,
-                "area_cold": c.area, "area_hot": h.area, "dT_flash": h.dT_flash,
-                "residual_hot": h.residual}
+        c, h = self.cold_and_hot(v, T, p, warn=False)
+        out = {"mu_cold": c.mu, "mu_hot": h.mu, "mu_visc_cold": c.mu_visc,
+               "mu_cont_cold": c.mu_cont, "mu_visc_hot": h.mu_visc, "mu_cont_hot": h.mu_cont,
+               "area_cold": c.area, "area_hot": h.area, "dT_flash": h.dT_flash,
+               "residual_hot": h.residual}
+        if self.band is not None:
+            out.update(outside_cold=c.outside, outside_hot=h.outside)
+        return out
 
     def mu_table(self, v: Any, T0: float, sigma0: float) -> tuple[np.ndarray, ...]:
         """Columns of ``tirefric mu``: v, mu_cold, mu_hot, mu_visc_cold, mu_cont_cold,

@@ -17,6 +17,14 @@ All of them are turned into a :class:`ModulusTable` for the friction integrals: 
 log10 E_I sampled on a uniform log10(omega) grid and interpolated linearly, with strain
 softening (review eq. 6) applied. Evaluation is then a vectorised index computation, the
 dominant cost of the Persson integrals.
+
+A model that is known only on a measured band (the tabulated curve) says so: it has a
+``measured_band`` (omega_min, omega_max) [rad/s] and a ``continued(omega)`` evaluation that
+follows its stated continuation outside the band whatever its policy. The table keeps that
+band, so that the friction engine can say which part of each result came from outside the
+data and refuse, under ``outside = "error"``, only the results that need it
+(:mod:`lookup.friction`, docs/engine-inputs.md). Analytic models (Prony, single relaxation)
+have no band: they are defined at every frequency.
 """
 
 from __future__ import annotations
@@ -169,7 +177,9 @@ class TabulatedMasterCurve:
     above the highest frequency E' stays at its end value and E'' falls proportional to
     1/omega. (Ferry, *Viscoelastic Properties of Polymers*, 3rd ed., ch. 3: terminal and glassy
     behaviour of a relaxation spectrum of finite width.) This never invents a new transition
-    and is bounded. ``outside="error"`` refuses any evaluation outside the data instead.
+    and is bounded. ``outside="error"`` refuses any direct evaluation outside the data
+    (:meth:`storage_loss`); the friction engine samples the continuation (:meth:`continued`)
+    and refuses only the results whose integrands reach outside :attr:`measured_band`.
 
     Attributes
     ----------
@@ -185,6 +195,9 @@ class TabulatedMasterCurve:
         The frequency unit of the file's column, reported in :meth:`describe`: ``"rad/s"``
         (angular frequency, used as is) or ``"Hz"`` (cyclic frequency f, converted to
         omega = 2 pi f); "1/s" is refused as ambiguous when the file is read.
+    columns : str
+        How the file's columns were read, for :meth:`describe` (e.g. the loss modulus
+        computed from a tan delta column), "" when not from a file.
     """
 
     omega: np.ndarray
@@ -193,6 +206,7 @@ class TabulatedMasterCurve:
     outside: OutsidePolicy = "maxwell"
     source: str = ""
     omega_unit: str = "rad/s"
+    columns: str = ""
 
     def __post_init__(self) -> None:
         for nm in ("omega", "E_storage", "E_loss"):
@@ -215,16 +229,31 @@ class TabulatedMasterCurve:
         if self.outside not in ("maxwell", "error"):
             raise InputError("unknown policy", source=src, field="outside", value=self.outside)
 
+    @property
+    def measured_band(self) -> tuple[float, float]:
+        """(omega_min, omega_max) of the data [rad/s]."""
+        return float(self.omega[0]), float(self.omega[-1])
+
     def storage_loss(self, omega: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(E', E'') [Pa]; outside the data as the policy says (class docstring)."""
+        omega = np.asarray(omega, dtype=float)
+        if self.outside == "error":
+            lw = np.log10(omega)
+            x = np.log10(self.omega)
+            if (lw < x[0] - 1e-12).any() or (lw > x[-1] + 1e-12).any():
+                raise InputError(
+                    f"frequency outside the master curve's data ({self.omega[0]:.3g}.."
+                    f"{self.omega[-1]:.3g} rad/s) and policy is 'error'",
+                    source=self.source or None, field="outside")
+        return self.continued(omega)
+
+    def continued(self, omega: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(E', E'') [Pa]: the data inside, the Maxwell asymptotes outside (whatever the
+        policy; the friction engine accounts for what it takes from outside)."""
         omega = np.asarray(omega, dtype=float)
         lw = np.log10(omega)
         x = np.log10(self.omega)
         lo, hi = x[0], x[-1]
-        if self.outside == "error" and ((lw < lo - 1e-12).any() or (lw > hi + 1e-12).any()):
-            raise InputError(
-                f"frequency outside the master curve's data ({self.omega[0]:.3g}.."
-                f"{self.omega[-1]:.3g} rad/s) and policy is 'error'",
-                source=self.source or None, field="outside")
         lER = np.interp(lw, x, np.log10(self.E_storage))
         lEI = np.interp(lw, x, np.log10(self.E_loss))
         lEI = np.where(lw < lo, lEI + (lw - lo), lEI)
@@ -235,7 +264,8 @@ class TabulatedMasterCurve:
         how = ("angular frequency omega [rad/s], used as is" if self.omega_unit == "rad/s"
                else f"cyclic frequency f [{self.omega_unit}], converted to omega = 2 pi f")
         return {"model": "tabulated", "source": self.source, "outside": self.outside,
-                "frequency_column": how,
+                "frequency_column": how, "columns": self.columns,
+                "measured_band_rad_s": list(self.measured_band),
                 "omega_rad_s": self.omega.tolist(), "E_storage_Pa": self.E_storage.tolist(),
                 "E_loss_Pa": self.E_loss.tolist()}
 
@@ -248,25 +278,57 @@ class ModulusTable:
     Evaluation interpolates linearly in log10 omega; arguments beyond the table are clamped to
     its ends (the table spans far more decades than any Persson integral reaches, see
     :meth:`from_modulus`).
+
+    Attributes
+    ----------
+    log10_band : tuple of float or None
+        log10 of the measured band (omega_min, omega_max) [rad/s] of a tabulated master curve
+        (module docstring); None for an analytic model, which has no band.
+    outside : {"maxwell", "error"}
+        The master curve's policy outside its band (the engine refuses, under "error", the
+        results that need frequencies outside it).
+    source : str
+        The master curve's file, for messages.
     """
 
     log10_omega0: float
     d_log10_omega: float
     log10_ER: np.ndarray
     log10_EI: np.ndarray
+    log10_band: tuple[float, float] | None = None
+    outside: str = "maxwell"
+    source: str = ""
 
     @classmethod
     def from_modulus(cls, modulus: Modulus, eta_R: float = 1.0, eta_I: float = 1.0,
                      log10_omega_range: tuple[float, float] = (-40.0, 40.0),
                      points_per_decade: int = 40) -> ModulusTable:
-        """Sample ``modulus`` (times the softening factors eta_R, eta_I) on a log grid."""
+        """Sample ``modulus`` (times the softening factors eta_R, eta_I) on a log grid.
+
+        A model with a measured band is sampled through its continuation (``continued``) and
+        its band and policy are kept (module docstring)."""
         lo, hi = log10_omega_range
         n = round((hi - lo) * points_per_decade) + 1
         lw = np.linspace(lo, hi, n)
-        ER, EI = modulus.storage_loss(10.0**lw)
+        band = getattr(modulus, "measured_band", None)
+        sample = modulus.storage_loss if band is None else modulus.continued
+        ER, EI = sample(10.0**lw)
         ER = np.asarray(ER) * eta_R
         EI = np.maximum(np.asarray(EI) * eta_I, 1e-300)
-        return cls(lo, (hi - lo) / (n - 1), np.log10(ER), np.log10(EI))
+        log10_band = None if band is None else (float(np.log10(band[0])),
+                                                float(np.log10(band[1])))
+        return cls(lo, (hi - lo) / (n - 1), np.log10(ER), np.log10(EI), log10_band,
+                   str(getattr(modulus, "outside", "maxwell")),
+                   str(getattr(modulus, "source", "")))
+
+    def outside_band(self, log10_omega: np.ndarray) -> np.ndarray:
+        """Where reduced frequencies (log10 omega [rad/s]) lie outside the measured band
+        (all False without a band). The band's ends count as inside (to 1e-9 decades)."""
+        lw = np.asarray(log10_omega, float)
+        if self.log10_band is None:
+            return np.zeros(lw.shape, bool)
+        lo, hi = self.log10_band
+        return (lw < lo - 1e-9) | (lw > hi + 1e-9)
 
     def __call__(self, log10_omega: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(E_R, E_I) [Pa] at reduced angular frequencies given as log10(omega [rad/s])."""

@@ -68,9 +68,9 @@ def plot_compound(compound: Compound, path: str | Path, T_C: Sequence[float] = (
     """E', E'' (strain-softened, as used) and tan delta of a compound vs angular frequency."""
     plt = _plt()
     w = np.logspace(-6, 16, 400)
-    eta_R, eta_I = compound.softening_factors()
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.5))
     for T in T_C:
+        eta_R, eta_I = compound.softening_factors(T + 273.15)  # strain sweeps depend on T
         la = compound.log10_aT(np.array(T + 273.15))
         ER, EI = compound.modulus.storage_loss(w * 10.0**la)
         ax[0].loglog(w, ER * eta_R, label=f"E' {T:g} C")

@@ -62,6 +62,7 @@ from tirefric.errors import InputError
 
 from .compound import Compound
 from .modulus import ModulusTable
+from .softening import factors_at
 
 # -- numerical settings of the q integrals (resolution checked in tests/test_rolling.py) -------
 #: q-nodes per decade where the contact shape oscillates (k = q a > 1) and below it.
@@ -127,10 +128,10 @@ class EffectiveModulus:
     def __post_init__(self) -> None:
         _check_positive(self.T, "T")
         if self.strain is None:
-            table = self.compound.modulus_table(self.points_per_decade)
-        else:
+            table = self.compound.modulus_table(self.points_per_decade, T=self.T)
+        else:  # softening factors at this strain (and at T, for strain sweeps at several T)
             eps = _check_positive(self.strain, "strain")
-            eta_R, eta_I = self.compound.softening.factors(eps)
+            eta_R, eta_I = (float(x) for x in factors_at(self.compound.softening, eps, self.T))
             table = ModulusTable.from_modulus(self.compound.modulus, eta_R, eta_I,
                                               points_per_decade=self.points_per_decade)
         object.__setattr__(self, "table", table)
@@ -143,6 +144,12 @@ class EffectiveModulus:
         aw = np.abs(w)
         with np.errstate(divide="ignore"):
             lw = np.where(aw > 0, np.log10(np.where(aw > 0, aw, 1.0)), -np.inf)
+        if self.table.outside == "error" and self.table.outside_band(
+                (lw + self.log10_aT)[aw > 0]).any():
+            lo, hi = (10.0 ** b for b in self.table.log10_band)
+            raise InputError(f"frequency outside the master curve's data ({lo:.3g}..{hi:.3g} "
+                             "rad/s) and policy is 'error'", source=self.table.source or None,
+                             field="modulus.outside", value="error")
         ER, EI = self.table(lw + self.log10_aT)
         EI = np.where(aw > 0, np.sign(w) * EI, 0.0)
         return ER * self.inv_1mnu2, EI * self.inv_1mnu2

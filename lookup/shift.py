@@ -8,6 +8,11 @@ r"""Temperature shift factors a_T(T): E(omega, T) = E(omega a_T(T), T_ref).
   the adhesive shear law.
 
 All temperatures are in kelvin. ``a_T < 1`` above the reference temperature.
+
+A master curve is measured at the temperature where its own shift factor is 1: the
+compound's loader checks that the master curve's T_ref is where the table (or the WLF law)
+has a_T = 1, to :data:`T_REF_TOLERANCE` (:meth:`TabulatedShift.unit_temperature`,
+docs/engine-inputs.md).
 """
 
 from __future__ import annotations
@@ -20,6 +25,16 @@ import numpy as np
 from tirefric.errors import InputError
 
 K_B = 1.380649e-23  # Boltzmann constant [J/K]
+
+#: How far [K] the master curve's stated T_ref may lie from where its shift factor is 1. A
+#: reference temperature is written to the whole degree (a stated "40 C" stands for
+#: 39.5-40.5 C; measured tables put a_T = 1 at the oven's reading, e.g. 39.96 C), and 0.5 K
+#: moves the master curve by |d log10 a_T/dT| x 0.5 K = 0.02-0.1 decades of frequency
+#: (|d log10 a_T/dT| = C1/C2 = 0.04-0.2 per K for WLF fits at 20-40 C with C1 ~ 10-25,
+#: C2 ~ 130-260 K, docs/review-notes.md), less than the spacing of the points of a measured
+#: master curve (5-10 per decade). A larger mismatch is a wrong T_ref: a table at 40 C read
+#: as 20 C moves the curve by 1-4 decades.
+T_REF_TOLERANCE = 0.5
 
 
 class ShiftFactor(Protocol):
@@ -111,6 +126,33 @@ class TabulatedShift:
         s1 = (y[-1] - y[-2]) / (x[-1] - x[-2])
         out = np.where(T < x[0], y[0] + s0 * (T - x[0]), out)
         return np.where(T > x[-1], y[-1] + s1 * (T - x[-1]), out)
+
+    def unit_temperature(self, near: float | None = None) -> float | None:
+        """The temperature [K] where the table has a_T = 1 (log10 a_T = 0), linear in T
+        between its points and along the continued end segments (as :meth:`log10_aT`).
+
+        A table that crosses 1 several times (measurement noise) gives the crossing nearest
+        ``near`` (default: the first); one that never does gives None."""
+        x, y = self.T, self.log10_a
+        hits: list[float] = []
+        for i in range(x.size - 1):
+            a, b = y[i], y[i + 1]
+            if a == 0.0:
+                hits.append(float(x[i]))
+            elif a * b < 0.0:
+                hits.append(float(x[i] - a * (x[i + 1] - x[i]) / (b - a)))
+        if y[-1] == 0.0:
+            hits.append(float(x[-1]))
+        for end, nb, out in ((0, 1, -1.0), (-1, -2, 1.0)):
+            slope = (y[end] - y[nb]) / (x[end] - x[nb])
+            if slope != 0.0 and y[end] != 0.0:
+                t = float(x[end] - y[end] / slope)
+                if (t - x[end]) * out > 0.0:
+                    hits.append(t)
+        if not hits:
+            return None
+        ref = hits[0] if near is None else near
+        return min(hits, key=lambda t: abs(t - ref))
 
     def describe(self) -> dict:
         return {"model": "tabulated", "source": self.source, "T_K": self.T.tolist(),

@@ -81,6 +81,13 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
     ("flash: scale q felt at depth 1/q instead of 1/(2q)", "lookup/friction.py",
      "self.z_eval = np.concatenate([[0.0], 1.0 / (2.0 * self.q)])",
      "self.z_eval = np.concatenate([[0.0], 1.0 / self.q])"),
+    ("q1 rule: rms slope of the self-affine plateau doubled", "lookup/roughness.py",
+     "flat = 0.25 * (qa**4 - self.q0**4)", "flat = 0.5 * (qa**4 - self.q0**4)"),
+    ("q1 rule: numerical rms slope without the 2 pi of sec. 4", "lookup/roughness.py",
+     "f = 2.0 * np.pi * qq**4 * psd.C(qq)", "f = qq**4 * psd.C(qq)"),
+    ("road heat partition: image strength with twice the road's effusivity",
+     "lookup/friction.py", "self.R_image = (e_r - e_s) / (e_r + e_s)",
+     "self.R_image = (e_r - e_s) / (e_r + 2.0 * e_s)"),
     ("eq. (21) shear law width c doubled", "lookup/adhesion.py",
      "return self.sigma_f0 * np.exp(-self.c * x * x)",
      "return self.sigma_f0 * np.exp(-2.0 * self.c * x * x)"),
@@ -172,8 +179,8 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
 ]
 
 #: Test files run first (independent references; cheap); the rest follow in name order.
-FIRST = ["test_physics_reference.py", "test_fmu_units.py", "test_slip_kinematics.py",
-         "test_errors.py", "test_persson_engine.py"]
+FIRST = ["test_physics_reference.py", "test_closed_form_pins.py", "test_fmu_units.py",
+         "test_slip_kinematics.py", "test_errors.py", "test_persson_engine.py"]
 
 IGNORE = shutil.ignore_patterns(".git", ".venv*", "venv", "*.egg-info", "__pycache__",
                                 ".pytest_cache", ".ruff_cache", ".core-cache", "build", "dist",

@@ -144,7 +144,7 @@ def test_cli_mu_json(capsys) -> None:
     assert rc == 0
     out = json.loads(capsys.readouterr().out)
     keys = {"v", "mu_cold", "mu_hot", "mu_visc_cold", "mu_cont_cold", "area_cold", "area_hot",
-            "dT_flash"}
+            "dT_flash", "outside_cold", "outside_hot"}
     assert len(out["points"]) == 2 and set(out["points"][0]) == keys
     p0 = out["points"][0]
     assert p0["mu_hot"] == pytest.approx(p0["mu_cold"], rel=1e-3), "hot = cold at 1e-5 m/s"

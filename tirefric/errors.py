@@ -72,3 +72,13 @@ class ConvergenceError(TirefricError, RuntimeError):
 
 class GridError(TirefricError, ValueError):
     """A grid file is corrupt, truncated, inconsistent or does not match its content hash."""
+
+
+class TirefricWarning(UserWarning):
+    """Base class of the warnings tirefric issues (filter them with ``warnings``)."""
+
+
+class ExtrapolationWarning(TirefricWarning):
+    """A result took a notable share of its integrand from outside the measured data (a
+    master curve's frequency band): docs/engine-inputs.md, "What a result took from outside
+    the data"."""

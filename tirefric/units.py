@@ -22,8 +22,10 @@ UNITS: dict[str, dict[str, tuple[float, float]]] = {
     # "1/s" is refused as ambiguous (rad/s or cycles/s?): see AMBIGUOUS_UNITS
     "angular_frequency": {"rad/s": (1.0, 0.0), "Hz": (2.0 * math.pi, 0.0)},
     "time": {"s": (1.0, 0.0), "ms": (1e-3, 0.0), "us": (1e-6, 0.0)},
-    "temperature": {"K": (1.0, 0.0), "degC": (1.0, 273.15), "C": (1.0, 273.15)},
-    "temperature_difference": {"K": (1.0, 0.0), "degC": (1.0, 0.0), "C": (1.0, 0.0)},
+    "temperature": {"K": (1.0, 0.0), "degC": (1.0, 273.15), "C": (1.0, 273.15),
+                    "\u00b0C": (1.0, 273.15)},
+    "temperature_difference": {"K": (1.0, 0.0), "degC": (1.0, 0.0), "C": (1.0, 0.0),
+                               "\u00b0C": (1.0, 0.0)},
     "velocity": {
         "m/s": (1.0, 0.0), "cm/s": (1e-2, 0.0), "mm/s": (1e-3, 0.0), "um/s": (1e-6, 0.0),
         "km/h": (1.0 / 3.6, 0.0),
@@ -50,6 +52,9 @@ UNITS: dict[str, dict[str, tuple[float, float]]] = {
     "inertia": {"kg m^2": (1.0, 0.0)},
     "angle": {"rad": (1.0, 0.0), "deg": (math.pi / 180.0, 0.0)},
     "dimensionless": {"1": (1.0, 0.0), "": (1.0, 0.0)},
+    # a strain amplitude: a fraction or a percentage; without a unit it is refused as
+    # ambiguous (see AMBIGUOUS_UNITS): strain sweeps are written both ways
+    "strain": {"1": (1.0, 0.0), "%": (1e-2, 0.0)},
 }
 
 
@@ -60,6 +65,10 @@ AMBIGUOUS_UNITS: dict[str, dict[str, str]] = {
                "omega or 'Hz' for a cyclic frequency f (omega = 2 pi f)",
         "s^-1": "ambiguous frequency unit 's^-1': write 'rad/s' for an angular frequency "
                 "omega or 'Hz' for a cyclic frequency f (omega = 2 pi f)",
+    },
+    "strain": {
+        "": "a strain without a unit is ambiguous: write '%' for a percentage (10 % = 0.1) "
+            "or '1' for a fraction",
     },
 }
 

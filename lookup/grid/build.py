@@ -41,7 +41,14 @@ import numpy as np
 
 from tirefric.errors import GridError, InputError
 
-from .reader import VARIABLES, FrictionGrid, _json_default, round_to_float32
+from .reader import (
+    ALL_VARIABLES,
+    DIAGNOSTIC_VARIABLES,
+    VARIABLES,
+    FrictionGrid,
+    _json_default,
+    round_to_float32,
+)
 from .spec import GridSpec, load_spec
 from .store import package_version, save_grid, utc_now
 
@@ -84,7 +91,7 @@ def compute_slice(model: SliceModel, v: float, T: np.ndarray, p: np.ndarray
     missing = [n for n in VARIABLES if n not in out]
     if missing:
         raise GridError(f"the model's grid_slice at v = {v:g} m/s did not return {missing}")
-    res = {n: np.asarray(out[n], dtype=float) for n in VARIABLES}
+    res = {n: np.asarray(out[n], dtype=float) for n in ALL_VARIABLES if n in out}
     shape = (np.size(T), np.size(p))
     for n, a in res.items():
         if a.shape != shape:
@@ -144,7 +151,9 @@ class Checkpoint:
 
     def __post_init__(self) -> None:
         self.done = np.zeros(self.shape[0], dtype=bool)
-        self.data = {n: np.zeros(self.shape) for n in VARIABLES}
+        self.data = {n: np.zeros(self.shape) for n in ALL_VARIABLES}
+        # which slices returned each diagnostic variable (a grid keeps those all slices have)
+        self.diag = np.zeros((self.shape[0], len(DIAGNOSTIC_VARIABLES)), dtype=bool)
         self.seconds = np.zeros(self.shape[0])
 
     @classmethod
@@ -160,16 +169,18 @@ class Checkpoint:
             with np.load(self.path, allow_pickle=False) as z:
                 fp = str(z["fingerprint"])
                 done = z["done"]
-                data = {n: z[n] for n in VARIABLES}
+                data = {n: z[n] for n in ALL_VARIABLES}
+                diag = z["diagnostics"]
                 seconds = z["seconds"]
         except (OSError, ValueError, KeyError, EOFError) as exc:
             self._set_aside(f"unreadable ({type(exc).__name__})")
             return False
         if fp != self.fingerprint or done.shape != (self.shape[0],) or any(
-                a.shape != self.shape for a in data.values()):
+                a.shape != self.shape for a in data.values()) or diag.shape != self.diag.shape:
             self._set_aside("written by a build with another spec or model")
             return False
         self.done, self.data, self.seconds = done.astype(bool), data, seconds
+        self.diag = diag.astype(bool)
         return True
 
     def _set_aside(self, why: str) -> None:
@@ -180,17 +191,26 @@ class Checkpoint:
 
     def put(self, iv: int, out: dict[str, np.ndarray], seconds: float) -> None:
         """Store a finished slice."""
-        for n in VARIABLES:
-            self.data[n][iv] = out[n]
+        for n in ALL_VARIABLES:
+            if n in out:
+                self.data[n][iv] = out[n]
+        self.diag[iv] = [n in out for n in DIAGNOSTIC_VARIABLES]
         self.done[iv] = True
         self.seconds[iv] = seconds
+
+    def variables(self) -> dict[str, np.ndarray]:
+        """The grid's variables: :data:`VARIABLES` and the diagnostic ones that every slice
+        returned."""
+        keep = {n for k, n in enumerate(DIAGNOSTIC_VARIABLES) if self.diag[:, k].all()}
+        return {n: a for n, a in self.data.items()
+                if n not in DIAGNOSTIC_VARIABLES or n in keep}
 
     def save(self) -> None:
         """Write atomically (temporary file, then rename)."""
         tmp = self.path.with_name(f".{self.path.name}.tmp-{os.getpid()}")
         with open(tmp, "wb") as fh:
             np.savez(fh, fingerprint=np.array(self.fingerprint), done=self.done,
-                     seconds=self.seconds, **self.data)
+                     seconds=self.seconds, diagnostics=self.diag, **self.data)
         os.replace(tmp, self.path)
 
     def remove(self) -> None:
@@ -398,9 +418,11 @@ def build_grid(
     meta = grid_metadata(spec, description)
     meta["build"] = {"wall_s": wall, "slice_cpu_s": float(ckpt.seconds.sum()),
                      "runner": where, "resumed_slices": n_reused}
-    data = ({n: round_to_float32(a) for n, a in ckpt.data.items()} if single_precision
-            else ckpt.data)
+    variables = ckpt.variables()
+    data = ({n: round_to_float32(a) for n, a in variables.items()} if single_precision
+            else variables)
     meta["precision"] = "float32" if single_precision else "float64"
+    meta["outside_band"] = outside_summary(spec, description, variables)
     grid = FrictionGrid(np.log10(spec.v), spec.T, np.log10(spec.p), data, meta,
                         source=str(output))
     if output.suffix == ".npz":
@@ -418,6 +440,41 @@ def build_grid(
     report = BuildReport(output, nv, nv - n_reused, n_reused, wall, cpu,
                          1 if where == "serial" else n_workers, nT * np_)
     return grid, report
+
+
+def outside_summary(spec: GridSpec, description: dict[str, Any],
+                    variables: dict[str, np.ndarray]) -> dict[str, Any]:
+    """What the grid took from outside its master curve's measured band (metadata).
+
+    The per-node shares are the grid variables ``outside_cold`` and ``outside_hot`` (present
+    for a tabulated master curve); this is their summary: the band, the largest share of
+    each branch and where it is, and how many nodes exceed the engine's warning share
+    (lookup.friction module docstring, docs/engine-inputs.md)."""
+    from ..friction import OUTSIDE_WARNING_SHARE
+
+    band = description.get("measured_band_rad_s")
+    out: dict[str, Any] = {
+        "definition": "share of each node's friction integrand (review eqs. 17 and 19) at "
+                      "reduced frequencies outside the master curve's measured band; per "
+                      "node in the variables outside_cold, outside_hot (lookup.friction, "
+                      "docs/engine-inputs.md)",
+        "measured_band_rad_s": band, "warning_share": OUTSIDE_WARNING_SHARE}
+    if band is None:
+        out.update(max_cold=0.0, max_hot=0.0, nodes_above_warning=0,
+                   note="analytic master curve: defined at every frequency, nothing "
+                        "extrapolated")
+        return out
+    for b in ("cold", "hot"):
+        a = variables.get(f"outside_{b}")
+        if a is None:
+            out[f"max_{b}"] = None
+            continue
+        i, j, k = np.unravel_index(int(np.argmax(a)), a.shape)
+        out[f"max_{b}"] = float(a[i, j, k])
+        out[f"worst_{b}"] = {"v_m_s": float(spec.v[i]), "T_K": float(spec.T[j]),
+                             "p_Pa": float(spec.p[k])}
+        out[f"nodes_above_warning_{b}"] = int((a > OUTSIDE_WARNING_SHARE).sum())
+    return out
 
 
 def grid_metadata(spec: GridSpec, description: dict[str, Any]) -> dict[str, Any]:

@@ -137,6 +137,20 @@ def _run_info(args: argparse.Namespace) -> int:
             print(f"{label:9s} {m[key]}")
     print("variables " + ", ".join(f"{n} [{v['units']}] {v['min']:.4g}..{v['max']:.4g}"
                                    for n, v in s["variables"].items()))
+    ob = m.get("outside_band")
+    if isinstance(ob, dict):  # what the grid took from outside its measured master curve
+        band = ob.get("measured_band_rad_s")
+        if band is None:
+            print("outside   analytic master curve: nothing extrapolated")
+        else:
+            worst = ", ".join(
+                f"{b} {100 * ob[f'max_{b}']:.3g} %" for b in ("cold", "hot")
+                if ob.get(f"max_{b}") is not None)
+            above = sum(int(ob.get(f"nodes_above_warning_{b}", 0)) for b in ("cold", "hot"))
+            print(f"outside   measured master curve {band[0]:.4g}..{band[1]:.4g} rad/s; "
+                  f"largest share of a node's integrand from outside it: {worst}; "
+                  f"{above} node values above {100 * ob['warning_share']:g} % "
+                  "(variables outside_cold, outside_hot)")
     return 0
 
 
@@ -164,7 +178,8 @@ def _run_query(args: argparse.Namespace) -> int:
                    "surface": grid.meta.get("surface_name"), "T_C": T_C, "p_Pa": p,
                    "v_interp": args.v_interp, "T_interp": args.T_interp,
                    "p_interp": args.p_interp,
-                   "points": rows, "clamped": clamped})
+                   "points": rows, "clamped": clamped,
+                   "outside_band": grid.meta.get("outside_band")})
     else:
         print(f"# grid {grid.source} ({grid.hash[:19]}), T = {T_C:g} C, p = {p:g} Pa")
         print_table(rows, MU_KEYS)

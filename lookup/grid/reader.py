@@ -71,10 +71,16 @@ VARIABLES: tuple[str, ...] = (
     "mu_cold", "mu_hot", "mu_visc_cold", "mu_cont_cold", "mu_visc_hot", "mu_cont_hot",
     "area_cold", "area_hot", "dT_flash", "residual_hot",
 )
+#: Variables a grid has only where they apply: the share of each node's friction integrand
+#: taken from outside a tabulated master curve's measured band (lookup.friction module
+#: docstring); a compound with an analytic master curve has none, and its grid leaves them out.
+DIAGNOSTIC_VARIABLES: tuple[str, ...] = ("outside_cold", "outside_hot")
+#: Every variable a grid may hold, in storage (and hash) order.
+ALL_VARIABLES: tuple[str, ...] = VARIABLES + DIAGNOSTIC_VARIABLES
 VARIABLE_UNITS: dict[str, str] = {
     "mu_cold": "1", "mu_hot": "1", "mu_visc_cold": "1", "mu_cont_cold": "1",
     "mu_visc_hot": "1", "mu_cont_hot": "1", "area_cold": "1", "area_hot": "1",
-    "dT_flash": "K", "residual_hot": "K",
+    "dT_flash": "K", "residual_hot": "K", "outside_cold": "1", "outside_hot": "1",
 }
 VARIABLE_LONG_NAMES: dict[str, str] = {
     "mu_cold": "friction coefficient, cold branch (no flash heating)",
@@ -87,6 +93,8 @@ VARIABLE_LONG_NAMES: dict[str, str] = {
     "area_hot": "relative real contact area A/A0, hot branch",
     "dT_flash": "flash temperature rise of the hot branch",
     "residual_hot": "convergence residual of the self-consistent hot solve",
+    "outside_cold": "share of mu_cold's integrand from outside the measured master curve",
+    "outside_hot": "share of mu_hot's integrand from outside the measured master curve",
 }
 #: Variables every grid must have (a reduced grid, e.g. for tests, may leave out the others).
 REQUIRED_VARIABLES: tuple[str, ...] = ("mu_cold", "mu_hot", "dT_flash")
@@ -247,7 +255,7 @@ def content_hash(axes: Mapping[str, np.ndarray], variables: Mapping[str, np.ndar
     """SHA-256 of the numeric content of a grid (axes and variables, not metadata).
 
     The digest covers, in this order, each axis of :data:`AXES` and then each present variable
-    in the order of :data:`VARIABLES`: its name (UTF-8), its shape and its values as
+    in the order of :data:`ALL_VARIABLES`: its name (UTF-8), its shape and its values as
     little-endian float64 in C order. It is therefore independent of the file format (NetCDF
     or npz) the grid was stored in.
 
@@ -257,7 +265,7 @@ def content_hash(axes: Mapping[str, np.ndarray], variables: Mapping[str, np.ndar
         ``"sha256:<64 hex digits>"``.
     """
     h = hashlib.sha256()
-    items = [(a, axes[a]) for a in AXES] + [(v, variables[v]) for v in VARIABLES
+    items = [(a, axes[a]) for a in AXES] + [(v, variables[v]) for v in ALL_VARIABLES
                                              if v in variables]
     for name, arr in items:
         a = np.ascontiguousarray(arr, dtype="<f8")
@@ -306,7 +314,7 @@ class FrictionGrid:
         Nominal-pressure axis, log10 of p in Pa, strictly ascending.
     variables
         Name -> array of shape ``(len(log10_v), len(T), len(log10_p))``; names from
-        :data:`VARIABLES`, at least :data:`REQUIRED_VARIABLES`; all values finite.
+        :data:`ALL_VARIABLES`, at least :data:`REQUIRED_VARIABLES`; all values finite.
     meta
         Provenance and constants; must contain ``"s0_m"`` and ``"D_m"`` [m] (positive
         floats). The key ``"hash"`` is set to :func:`content_hash`; if ``meta`` already carries
@@ -336,15 +344,15 @@ class FrictionGrid:
         self.axes: dict[str, np.ndarray] = {
             n: _validate_axis(n, axes[n], self.source) for n in AXES}
         shape = tuple(self.axes[n].size for n in AXES)
-        unknown = sorted(set(variables) - set(VARIABLES))
+        unknown = sorted(set(variables) - set(ALL_VARIABLES))
         if unknown:
             raise GridError(f"{self.source}: unknown variable(s) {unknown} "
-                            f"(known: {', '.join(VARIABLES)})")
+                            f"(known: {', '.join(ALL_VARIABLES)})")
         missing = [n for n in REQUIRED_VARIABLES if n not in variables]
         if missing:
             raise GridError(f"{self.source}: required variable(s) missing: {missing}")
         self.variables: dict[str, np.ndarray] = {}
-        for name in VARIABLES:
+        for name in ALL_VARIABLES:
             if name not in variables:
                 continue
             try:

@@ -40,9 +40,11 @@ from tirefric.errors import GridError, InputError
 from tirefric.paths import models_dir
 
 from .reader import (
+    ALL_VARIABLES,
     AXES,
     AXIS_LONG_NAMES,
     AXIS_UNITS,
+    DIAGNOSTIC_VARIABLES,
     FORMAT_VERSION,
     NPZ_FORMAT,
     VARIABLE_LONG_NAMES,
@@ -125,7 +127,7 @@ def save_grid(grid: FrictionGrid, path: str | Path, *, compression_level: int = 
                 var = f.create_variable(n, (n,), "f8", data=np.asarray(grid.axes[n]))
                 var.attrs["units"] = AXIS_UNITS[n]
                 var.attrs["long_name"] = AXIS_LONG_NAMES[n]
-            for n in VARIABLES:
+            for n in (n for n in ALL_VARIABLES if n in grid.variables):
                 data = storage_array(grid.variables[n])
                 var = f.create_variable(n, AXES, data.dtype, data=data, compression="gzip",
                                         compression_opts=compression_level, shuffle=True,
@@ -138,7 +140,7 @@ def save_grid(grid: FrictionGrid, path: str | Path, *, compression_level: int = 
             f.attrs["hash"] = grid.hash
             f.attrs["hash_definition"] = (
                 "sha256 over, in order, the axes log10_v, T, log10_p and then the variables "
-                + ", ".join(VARIABLES)
+                + ", ".join(n for n in ALL_VARIABLES if n in grid.variables)
                 + ": for each its name (UTF-8), its shape as a Python tuple repr, and its "
                   "values as little-endian float64 in C order")
             # every metadata item as its own attribute too, for readers without JSON:
@@ -197,7 +199,10 @@ def _read_nc(path: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], 
 
             axes = {n: a for n in AXES
                     if (a := read("axis", n, (n,), AXIS_UNITS[n])) is not None}
-            variables = {n: a for n in VARIABLES
+            # diagnostic variables only where the grid has them (reader.DIAGNOSTIC_VARIABLES)
+            present = [n for n in ALL_VARIABLES
+                       if n not in DIAGNOSTIC_VARIABLES or n in f.variables]
+            variables = {n: a for n in present
                          if (a := read("variable", n, AXES, VARIABLE_UNITS[n])) is not None}
             text = f.attrs.get("meta_json")
             stored_hash = f.attrs.get("hash")

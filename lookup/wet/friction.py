@@ -139,12 +139,13 @@ class WetPerssonFriction(PerssonFriction):
         return d
 
     def _evaluate(self, v: np.ndarray, T0: np.ndarray, sigma0: np.ndarray,
-                  dT: np.ndarray | None) -> dict[str, np.ndarray]:
+                  dT: np.ndarray | None, outside: bool = False) -> dict[str, np.ndarray]:
         if self.depth == 0.0:
             self.last_w = np.ones(v.size)
-            return super()._evaluate(v, T0, sigma0, dT)
-        la, T_surf = self._temperatures(T0, dT)
-        A_I, A_2 = self._angular(v, la)
+            return super()._evaluate(v, T0, sigma0, dT, outside)
+        la, T_surf, T_q = self._temperatures(T0, dT)
+        ang = self._angular(v, la, T_q, outside)
+        A_I, A_2 = ang[0], ang[1]
         s2 = (1.0 / sigma0**2)[:, None]
         G_dry = self._G(0.125 * self.F * A_2 * s2)
         P_dry = contact_fraction(self.area_c * G_dry)
@@ -187,8 +188,12 @@ class WetPerssonFriction(PerssonFriction):
         # the dry engine's area (same G, same operations), so no second dry evaluation
         area = np.minimum(P_dry[:, -1], P[:, -1])
         mu_cont = w * self.compound.adhesion.sigma_f(v, T_surf) * area / sigma0
-        return {"mu_visc": contrib.sum(axis=1), "mu_cont": mu_cont, "area": area,
-                "dmu_w": dmu_w, "P_m": P_m}
+        out = {"mu_visc": contrib.sum(axis=1), "mu_cont": mu_cont, "area": area,
+               "dmu_w": dmu_w, "P_m": P_m}
+        if outside:  # extrapolation shares of the sealed spectrum's integrals
+            out.update(self._outside_shares(ang, g, gg, np.diff(PhiG, axis=1), sigma0,
+                                            out["mu_visc"], mu_cont, G[:, -1]))
+        return out
 
     def _G(self, g: np.ndarray) -> np.ndarray:
         gg = g[:, 1:] + g[:, :-1]
@@ -238,7 +243,7 @@ class WetPerssonFriction(PerssonFriction):
         saved = (self.adhesive_weight, self.t_contact)
         try:
             self.adhesive_weight = 1.0
-            c1 = self._evaluate(v, T0, sigma0, None)
+            c1 = self._evaluate(v, T0, sigma0, None, outside=self.band is not None)
             state = self._cold_state
             c0 = {**c1, "mu_cont": np.zeros_like(c1["mu_cont"])}
             h1 = self._hot_result(self._fixed_point(v, T0, sigma0, cold=c1), shape)
