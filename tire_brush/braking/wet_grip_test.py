@@ -38,7 +38,6 @@ from .simulation import SimResult, SimSettings, simulate_braking
 from .slip_map import optimal_slip
 from .study import abs_slip_schedule
 
-
 #: The reference tire's windows of UN R117 Annex 5, temperature-corrected to 20 C: the
 #: trailer method's peak braking force coefficient 0.65-0.90 (R117 Annex 5, 04 series);
 #: the vehicle method's BFC 0.57-0.79 as quoted in models/studies/wet_grip.toml.
