@@ -38,6 +38,16 @@ def rr(tire):
     return rrm.load_rolling_params(tire)
 
 
+@pytest.fixture(scope="module")
+def rr_law(rr):
+    """The power-law carcass loss on the footprint pulse (the former shipped parameters:
+    tan delta 0.10 at 10 Hz and 60 C, m = 0.1, T_g -60 C), for the closed forms."""
+    return replace(rr, carcass_compound="", carcass_pulse="footprint",
+                   carcass_loss_tangent=0.10, carcass_reference_frequency=2 * math.pi * 10.0,
+                   carcass_reference_temperature=333.15, carcass_loss_slope=0.1,
+                   carcass_T_g=213.15)
+
+
 class _ScaledLoss:
     """Softening law whose loss factor eta_I is multiplied by ``k`` (E'' scaled by k)."""
 
@@ -87,7 +97,7 @@ def test_tread_term_is_eq29_of_lookup(tire, compound, rr):
     assert math.isclose(float(got), ref, rel_tol=1e-9)
 
 
-def test_rises_with_the_loss(tire, compound, rr):
+def test_rises_with_the_loss(tire, compound, rr_law):
     V, Fz, T = 22.0, 4000.0, 300.0
     base = rrm.rolling_resistance(tire, compound, V, Fz, T)
     lossy = replace(compound, softening=_ScaledLoss(compound.softening, 2.0))
@@ -95,9 +105,10 @@ def test_rises_with_the_loss(tire, compound, rr):
     assert more.f_tread > 1.5 * base.f_tread  # Im(1/E) ~ E''/E'^2 on the rubbery side
     assert more.f_r > base.f_r
     # the carcass part is linear in its loss tangent (below the cap at 1)
-    rr2 = replace(rr, carcass_loss_tangent=2.0 * rr.carcass_loss_tangent)
+    law = rrm.rolling_resistance(tire, compound, V, Fz, T, rr=rr_law)
+    rr2 = replace(rr_law, carcass_loss_tangent=2.0 * rr_law.carcass_loss_tangent)
     c2 = rrm.rolling_resistance(tire, compound, V, Fz, T, rr=rr2)
-    assert math.isclose(float(c2.f_carcass), 2.0 * float(base.f_carcass), rel_tol=1e-12)
+    assert math.isclose(float(c2.f_carcass), 2.0 * float(law.f_carcass), rel_tol=1e-12)
     # more load tangent in the tread: a larger share of the heat in the tread
     assert more.tread_share > base.tread_share
 
@@ -185,14 +196,14 @@ def test_harmonic_weights_closed_forms():
         assert harmonic == pytest.approx(tau * V * 8 / (3 * a), rel=2e-3)
 
 
-def test_carcass_term_kelvin_voigt_closed_form(tire, rr):
+def test_carcass_term_kelvin_voigt_closed_form(tire, rr_law):
     """A carcass with eta = omega tau (m = 1 at T_ref, tau = eta_ref/omega_ref), by hand.
 
     f = chi Fz/(C_z' R_e) sum_n n w_n n Omega tau with sum n^2 w_n = R_e^2 <g'^2>/<g^2>
     = 5 R_e^2/(2 a^2), so f = (5/2) chi tau rho V / a^2, rho = Fz/C_z': the time-domain loss
     int E tau (d eps/dt)^2 dt of a Kelvin-Voigt solid, per unit distance and load.
     """
-    kv = replace(rr, carcass_loss_slope=1.0)
+    kv = replace(rr_law, carcass_loss_slope=1.0)
     tau = kv.carcass_loss_tangent / kv.carcass_reference_frequency
     V = 0.01  # slow enough that eta(n Omega) stays below its cap for every harmonic
     for Fz in (1000.0, 4000.0, 9000.0):
@@ -205,7 +216,7 @@ def test_carcass_term_kelvin_voigt_closed_form(tire, rr):
         assert got == pytest.approx(want, rel=5e-3)
     # constant loss tangent: f = chi eta Fz/(C_z' R_e) sum n w_n, sum n w_n ~ R/a (one cycle
     # per revolution and element, not the time-averaged energy's 1 - 5a/(6 pi R))
-    flat = replace(rr, carcass_loss_slope=0.0)
+    flat = replace(rr_law, carcass_loss_slope=0.0)
     a, _ = tire.patch.size(4000.0)
     w = rrm.harmonic_weights(a, tire.R_e)
     got = float(rrm.carcass_coefficient(tire, flat, 4000.0, np.array(20.0), np.array(300.0)))
@@ -215,7 +226,15 @@ def test_carcass_term_kelvin_voigt_closed_form(tire, rr):
     assert 0.5 * tire.R_e / a < np.sum(np.arange(1, w.size + 1) * w) < 2 * tire.R_e / a
 
 
-def test_carcass_loss_tangent_shift(rr):
+def test_carcass_loss_tangent_shift(rr_law, rr):
+    # the compound's loss: E''/E' of its master curve at omega a_T(T), its own shift
+    c = load_compound(rr.carcass_compound)
+    om, T = np.array([10.0, 1e3]), np.array([273.15, 333.15])
+    Er, Ei = c.modulus.storage_loss(om * 10.0 ** np.asarray(c.log10_aT(T)))
+    # (read from a table of 200 nodes per decade, log-log: 1e-5)
+    np.testing.assert_allclose(rr.carcass_loss(om, T), Ei / Er, rtol=1e-5)
+    assert 0.05 < float(rr.carcass_loss(2 * math.pi * 10, 333.15)) < 0.15  # its provenance
+    rr = rr_law
     w_ref = rr.carcass_reference_frequency
     assert float(rr.carcass_loss(w_ref, rr.carcass_reference_temperature)) == pytest.approx(
         rr.carcass_loss_tangent)
@@ -243,7 +262,8 @@ def test_file_table_is_read_and_checked(tmp_path):
     text = (MODELS / "tires" / "passenger.toml").read_text()
     load_tire(MODELS / "tires" / "passenger.toml")  # the section does not upset load_tire
     bad = tmp_path / "bad.toml"
-    bad.write_text(text.replace("carcass_loss_slope = 0.1", "carcass_loss_slop = 0.1"))
+    assert 'carcass_pulse = "ring"' in text
+    bad.write_text(text.replace('carcass_pulse = "ring"', 'carcass_pulse = "rink"'))
     t = load_tire(bad)
     with pytest.raises((InputError, InputErrors)):
         rrm.load_rolling_params(t)
@@ -279,3 +299,37 @@ def test_cli_json_and_text(capsys, tire, compound):
     assert args.func(args) == 0
     text = capsys.readouterr().out
     assert "EU label class" in text and "rrc_N_per_kN" in text
+
+
+def test_ring_pulse_closed_forms(tire):
+    """The ring pulse g = delta/rho: rho - x^2/(2 R0) inside the patch, w_a exp(-(|x|-a)/lam)
+    outside with w_a = rho - a^2/(2 R0) and slopes matched at the edge (w_a/lam = a/R0),
+    integrated by hand over a revolution of length L = 2 pi R (the tails are ~0.06 m against
+    L/2 = 1 m, their overlap negligible):
+
+    int g = 2a - a^3/(3 R0 rho) + 2 (w_a/rho) lam,
+    int g^2 = 2a - 2a^3/(3 R0 rho) + a^5/(10 R0^2 rho^2) + (w_a/rho)^2 lam,
+    int g'^2 = 2a^3/(3 R0^2 rho^2) + (w_a/rho)^2 / lam;
+
+    sum_n w_n = 1 - (int g)^2 / (L int g^2) and, for a Kelvin-Voigt material,
+    sum_n n^2 w_n = R^2 int g'^2 / int g^2 (Parseval)."""
+    R0, R = tire.patch.R0, tire.R_e
+    L = 2 * math.pi * R
+    for Fz in (2000.0, 4825.0, 8000.0):
+        a, _ = tire.patch.size(Fz)
+        rho = Fz / tire.patch.vertical_stiffness
+        w_a, lam = rrm.ring_pulse(a, rho, R0)
+        assert w_a / lam == pytest.approx(a / R0, rel=1e-12) and w_a > 0
+        wr = w_a / rho
+        Ig = 2 * a - a**3 / (3 * R0 * rho) + 2 * wr * lam
+        Ig2 = 2 * a - 2 * a**3 / (3 * R0 * rho) + a**5 / (10 * R0**2 * rho**2) + wr**2 * lam
+        Igp = 2 * a**3 / (3 * R0**2 * rho**2) + wr**2 / lam
+        w = rrm.ring_pulse_weights(a, rho, R0, R, n_rev=1 << 16)
+        assert w.sum() == pytest.approx(1 - Ig**2 / (L * Ig2), rel=1e-6)
+        n = np.arange(1, w.size + 1)
+        # the kink of g' at the patch edge (a jump of g'': curvature) converges as 1/n_rev
+        assert np.sum(n * n * w) == pytest.approx(R**2 * Igp / Ig2, rel=2e-3)
+        # the ring's deformed zone is longer than the patch: fewer high harmonics than the
+        # footprint pulse's (sum n w_n ~ R/a), so less loss per cycle at a constant tan delta
+        wf = rrm.harmonic_weights(a, R, n_rev=1 << 16)
+        assert np.sum(n * w) < np.sum(n * wf)

@@ -298,30 +298,28 @@ def test_wet_grid_depth_zero_is_the_dry_grid(r117):
 
 
 def test_adhesive_weight_limits_in_speed(r117):
-    # sliding block: the squeeze-out time is the macro-contact time D / v. At 0.1 mm/s
-    # (t = 10 s) the water has left the asperity contacts (w -> 1: the last S node, 0.9999);
-    # at high speed there is no time (w -> 0). On this road the smooth-film drainage of a
-    # 1 mm macro contact (Stefan's law, lookup.wet.squeeze) is complete within ~0.1 ms (w =
-    # 0.34-0.51 at 1 us, 0.75-0.95 at 10 us; 20 C, 0.3 MPa), so w leaves 1 only at speeds beyond a
-    # tire's (measured at 80 C, 0.3 MPa: 0.94 at 1e2, 0.61 at 1e3, 0.03 at 1e5 m/s): the
-    # limit of the model is tested here, not a physical speed.
+    # sliding block: w = w_macro(D / v) w_asp(v) (lookup.wet.squeeze). At 0.1 mm/s the macro
+    # contact has drained (t = 10 s: the last S node, 0.9999) and the asperity films collapse
+    # (w_asp -> 1); at high speed neither has time (w -> 0); w falls monotonically in between
     dry, _, _ = r117
     wet = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3), sealing=SMALL)
     v = np.geomspace(1e-4, 1e6, 11)
     wet.at(1).cold(v, 353.15, 3e5)
-    w = wet.last_w
-    assert w[0] >= 0.9999 - 1e-12 and w[-1] < 0.01, w
+    w, wa = wet.last_w, wet.last_asperity
+    # the product of the two laws: the macro contact drained within D / v times w_asp(v)
+    w_macro = dry_share(wet.D / v, *wet.last_squeeze)
+    np.testing.assert_allclose(w, w_macro * wa, rtol=1e-14)
+    # at a locked tire's 10 m/s (80 C: soft rubber, low real-contact pressure) the macro
+    # contact has drained within D / v = 0.1 ms but the asperity films have not collapsed
+    assert w_macro[5] > 0.99 and wa[5] < 0.01, (wa, w_macro)
+    assert w[0] == pytest.approx(0.9999, rel=1e-8) and w[-1] < 0.01, w
+    assert wa[0] == pytest.approx(1.0, abs=1e-8) and wa[-1] == 0.0, wa
     assert np.all(np.diff(w) <= 1e-12), w
-    # the grid's dry share: 1 at the longest drainage time where the real contact is partial,
-    # falling towards the shortest. Where the soft rubber nearly closes the gap (A/A0 > 0.7:
-    # creep speeds at 1.2-2 MPa on the shipped summer compound, 8 % of the nodes) the film
-    # left between the contacts is so thin that 1 s drains only part of it (w 0.50-0.99)
-    _, dry_grid, g = r117
+    # the grid's dry share grows with the drainage time (along the slip speed it need not
+    # fall: the rubber stiffens with the frequency q v, which raises the contact pressures)
+    _, _, g = r117
     wd = g.variables["w_dry"][1]
     assert np.all(np.diff(wd, axis=0) >= -1e-12), "w_dry must grow with the drainage time"
-    partial = dry_grid["area_cold"] < 0.7
-    assert wd[-1][partial].min() > 0.99
-    assert wd[-1][~partial].min() > 0.4
 
 
 def test_wet_end_points_equal_the_forced_weights():
@@ -388,10 +386,8 @@ def test_sealing_lowers_the_viscoelastic_term_as_in_the_papers(r117):
     # Measured here (20 C, 0.2-0.3 MPa, 0.01-1 m/s): 0.69-0.71 with the shipped settings; the
     # construction's stated uncertainty (percolation threshold 0.35-0.5: 0.61-0.75,
     # docs/physics.md sec. 7a) sets the band 0.6-0.8. With the adhesive term off (soapy water)
-    # the total is that ratio; with water the real contact is squeezed dry at 0.01 m/s, so the
-    # adhesive term keeps its dry value and the total is share + (1 - share) x ratio, with the
-    # adhesive share of the dry friction (90 % on the shipped summer compound: the total
-    # falls by 3 %).
+    # the total is that ratio; with water the shipped compound's low-speed friction is 98 %
+    # adhesive and squeezed dry, so the total stays within 1 % of dry at 0.01 m/s.
     dry, _, _ = r117
     v = np.array([0.01, 0.1, 1.0])
     soap = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3),
@@ -404,10 +400,7 @@ def test_sealing_lowers_the_viscoelastic_term_as_in_the_papers(r117):
         assert np.all((ratio > 0.6) & (ratio < 0.8)), (p, ratio)
         w = wet.cold(v, 293.15, p)
         np.testing.assert_allclose(w.mu_visc, s.mu_visc, rtol=1e-12)
-        share = d.mu_cont[0] / d.mu[0]
-        assert w.mu[0] / d.mu[0] == pytest.approx(share + (1 - share) * ratio[0], rel=1e-3), \
-            (p, w.mu, d.mu)
-        assert w.mu[0] < d.mu[0], "water lowers the total at low speed"
+        assert d.mu_cont[0] / d.mu[0] > 0.95 and w.mu[0] / d.mu[0] > 0.99, (p, w.mu, d.mu)
 
 
 def test_temperature_signs_of_the_two_terms(r117):

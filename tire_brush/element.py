@@ -1336,9 +1336,9 @@ class RefTire:
             ns = math.ceil(dt / outer_step(p, V_r, a, b) - 1e-9)
             n_sub = int(ns) if ns > 1.0 else 1
             h = dt / n_sub
-            if wet is not None and a > 0.0:   # drainage time: drain_scale t_footprint
-                lt_drain = (math.log10(wet.drain_scale * (2.0 * a / abs(V_r))) if V_r != 0.0
-                            else math.inf)
+            if wet is not None and a > 0.0:   # drainage time: drain_scale t_footprint at
+                U = 0.5 * (abs(vx) + abs(V_r))    # the entrainment speed (wet_friction)
+                lt_drain = math.log10(wet.drain_scale * (2.0 * a / U)) if U > 0.0 else math.inf
             # camber: the base spins at -(1 - eps) omega sin(gamma)
             wc = -(1.0 - p.camber_reduction) * omega * math.sin(gamma)
             # rolling resistance at the start of the step, held over it

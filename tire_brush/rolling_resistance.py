@@ -149,6 +149,15 @@ class RollingResistanceParams:
         Inflation pressure of the ISO 28580 test [Pa].
     provenance : str
         Where the numbers come from.
+    carcass_compound : str
+        Compound file or shipped name of the carcass rubber (sidewall, ply skim): its master
+        curve's loss tangent E''/E' at omega a_T(T), with its own shift, replaces the power
+        law of the four ``carcass_*`` loss parameters above (then unused). Empty: the power
+        law.
+    carcass_pulse : str
+        ``"ring"``: the radial deflection of a tensioned ring on the sidewalls' foundation,
+        flattened over the patch and decaying beyond it (:func:`ring_pulse`); ``"footprint"``:
+        the Winkler pulse confined to the patch (:func:`harmonic_weights`).
     """
 
     tread_depth: float
@@ -164,8 +173,14 @@ class RollingResistanceParams:
     load_index_load: float = 0.0
     iso_inflation: float = 0.0
     provenance: str = ""
+    carcass_compound: str = ""
+    carcass_pulse: str = "ring"
 
     def __post_init__(self) -> None:
+        if self.carcass_pulse not in ("ring", "footprint"):
+            raise InputError("must be 'ring' or 'footprint'",
+                             field="RollingResistanceParams.carcass_pulse",
+                             value=self.carcass_pulse)
         for name in ("tread_depth", "carcass_reference_frequency",
                      "carcass_reference_temperature", "carcass_T_g"):
             _positive(getattr(self, name), f"RollingResistanceParams.{name}")
@@ -192,14 +207,40 @@ class RollingResistanceParams:
         return wlf(T) - wlf(self.carcass_reference_temperature)
 
     def carcass_loss(self, omega: np.ndarray, T: np.ndarray) -> np.ndarray:
-        """Carcass loss tangent eta(omega, T) [1] (power law on the rubbery side, capped at 1).
+        """Carcass loss tangent eta(omega, T) [1]: the carcass compound's E''/E' at
+        omega a_T(T) (its small-strain master curve and shift), or the power law on the
+        rubbery side, capped at 1.
 
         omega [rad/s] > 0 and T [K] broadcast together.
         """
+        if self.carcass_compound:
+            c = _carcass_compound(self.carcass_compound)
+            om, TT = np.broadcast_arrays(np.asarray(omega, float), np.asarray(T, float))
+            lred = np.log10(om) + np.asarray(c.log10_aT(TT), float)
+            lw, ltan = _loss_tangent_table(self.carcass_compound)
+            return 10.0 ** np.interp(lred, lw, ltan)
         x = (np.log10(np.asarray(omega, float) / self.carcass_reference_frequency)
              + self.carcass_log10_aT(T))
         return np.minimum(self.carcass_loss_tangent * 10.0 ** (self.carcass_loss_slope * x),
                           1.0)
+
+
+@functools.lru_cache(maxsize=8)
+def _carcass_compound(name: str) -> Compound:
+    from lookup.compound import load_compound
+
+    return load_compound(name)
+
+
+@functools.lru_cache(maxsize=8)
+def _loss_tangent_table(name: str) -> tuple[np.ndarray, np.ndarray]:
+    """log10 of E''/E' of a carcass compound's master curve on log10 omega (reduced to its
+    T_ref) from 1e-10 to 1e18 rad/s, 200 nodes per decade, read linearly in log-log (within
+    1e-5 of the master curve for a Prony series; held at the end values outside)."""
+    c = _carcass_compound(name)
+    lw = np.linspace(-10.0, 18.0, 28 * 200 + 1)
+    Er, Ei = c.modulus.storage_loss(10.0 ** lw)
+    return lw, np.log10(np.maximum(np.asarray(Ei) / np.asarray(Er), 1e-300))
 
 
 def _positive(x: object, name: str) -> float:
@@ -219,21 +260,37 @@ def _load_from_file(path: str) -> RollingResistanceParams:
                          "tire_brush.rolling_resistance)", source=Path(path),
                          field="rolling_resistance")
     T = "temperature"
+    comp = tab.string("carcass_compound", "")
+    if comp:  # the compound's loss replaces the power law: its parameters are optional
+        law = {"carcass_loss_tangent": 0.0, "carcass_reference_frequency": 2 * math.pi,
+               "carcass_reference_temperature": 333.15, "carcass_loss_slope": 0.0,
+               "carcass_T_g": 213.15}
+        cpath = Path(path).parent / comp
+        comp = str(cpath) if cpath.suffix == ".toml" and cpath.is_file() else comp
+    else:
+        law = {}
     try:
+        _carcass_compound(comp) if comp else None
         out = RollingResistanceParams(
             tread_depth=tab.quantity("tread_depth", "length", positive=True),
             tread_support=tab.string("tread_support", choices=("winkler", "bonded")),
             deflection_energy_share=tab.quantity("deflection_energy_share", "dimensionless",
                                                  nonnegative=True, maximum=1.0),
             carcass_loss_tangent=tab.quantity("carcass_loss_tangent", "dimensionless",
+                                              law.get("carcass_loss_tangent", ...),
                                               nonnegative=True, maximum=1.0),
-            carcass_reference_frequency=tab.quantity("carcass_reference_frequency",
-                                                     "angular_frequency", positive=True),
-            carcass_reference_temperature=tab.quantity("carcass_reference_temperature", T,
-                                                       positive=True),
+            carcass_reference_frequency=tab.quantity(
+                "carcass_reference_frequency", "angular_frequency",
+                law.get("carcass_reference_frequency", ...), positive=True),
+            carcass_reference_temperature=tab.quantity(
+                "carcass_reference_temperature", T, law.get("carcass_reference_temperature", ...),
+                positive=True),
             carcass_loss_slope=tab.quantity("carcass_loss_slope", "dimensionless",
-                                            nonnegative=True, maximum=1.0),
-            carcass_T_g=tab.quantity("carcass_T_g", T, positive=True),
+                                            law.get("carcass_loss_slope", ...), nonnegative=True,
+                                            maximum=1.0),
+            carcass_T_g=tab.quantity("carcass_T_g", T, law.get("carcass_T_g", ...), positive=True),
+            carcass_compound=comp,
+            carcass_pulse=tab.string("carcass_pulse", "ring", choices=("ring", "footprint")),
             size=tab.string("size", ""),
             load_index=tab.integer("load_index", 0, minimum=0),
             load_index_load=tab.quantity("load_index_load", "force", 0.0, nonnegative=True),
@@ -352,6 +409,44 @@ def harmonic_weights(a: float, R: float, n_rev: int = _N_REV) -> np.ndarray:
     return w
 
 
+def ring_pulse(a: float, rho: float, R0: float) -> tuple[float, float]:
+    r"""Edge deflection w_a [m] and decay length lambda [m] of the ring's radial deflection.
+
+    A tensioned ring (the belt under the inflation's hoop tension) on the sidewalls' radial
+    foundation, pressed flat over the patch |x| < a by the deflection rho: inside the patch
+    its radial deflection is that of the circle of radius R0 cut by the road,
+    :math:`\delta = \rho - x^2/(2R_0)`; outside, a string on an elastic foundation
+    (:math:`T\delta'' = k\delta`) decays as :math:`w_a e^{-(|x| - a)/\lambda}`,
+    :math:`\lambda = \sqrt{T/k}` (the flexible-ring/string tire models: Clark (ed.),
+    *Mechanics of Pneumatic Tires*, NHTSA/US DOT (1981); Gong, *A study of in-plane dynamics
+    of tires*, PhD thesis, TU Delft (1993); Pacejka 2012, sec. 9.2). The ring has no kink at
+    the patch edge, so the slopes match, :math:`w_a/\lambda = a/R_0`, with
+    :math:`w_a = \rho - a^2/(2R_0)`: the deformed zone's length follows from the measured
+    patch length a(Fz) and deflection rho = Fz/C_z' (the tire file's patch law and vertical
+    stiffness), not from a judged parameter. ``w_a = 0`` (no tail) if the patch law's a
+    reaches the circle's chord.
+    """
+    w_a = max(rho - a * a / (2.0 * R0), 0.0)
+    return w_a, (w_a * R0 / a if a > 0 else 0.0)
+
+
+def ring_pulse_weights(a: float, rho: float, R0: float, R: float, n_rev: int = _N_REV
+                       ) -> np.ndarray:
+    """Weights w_n (n = 1 .. n_rev/2) of the ring pulse's harmonics (:func:`ring_pulse`):
+    ``g = delta / rho`` on a revolution of length 2 pi R, ``w_n = 2 |g_n|^2 / <g^2>``."""
+    w_a, lam = ring_pulse(a, rho, R0)
+    L = 2.0 * math.pi * R
+    s = (np.arange(n_rev) + 0.5) * (L / n_rev) - 0.5 * L
+    inside = np.abs(s) <= a
+    tail = w_a * np.exp(-(np.abs(s) - a) / lam) if lam > 0 else np.zeros_like(s)
+    g = np.where(inside, rho - s * s / (2.0 * R0), tail) / rho
+    gh = np.fft.rfft(g) / n_rev
+    w = 2.0 * np.abs(gh[1:]) ** 2 / float(np.mean(g * g))
+    if n_rev % 2 == 0:
+        w[-1] *= 0.5
+    return w
+
+
 def carcass_coefficient(params: TireParams, rr: RollingResistanceParams, Fz: float,
                         V: np.ndarray, T: np.ndarray, n_rev: int = _N_REV) -> np.ndarray:
     r"""Carcass part of f_r at one load: :math:`\chi F_z/(C_z' R_e)\sum_n n w_n
@@ -361,7 +456,11 @@ def carcass_coefficient(params: TireParams, rr: RollingResistanceParams, Fz: flo
     (harmonics up to n_rev/2).
     """
     a, _ = params.patch.size(Fz)
-    w = harmonic_weights(a, params.R_e, n_rev)
+    if rr.carcass_pulse == "ring":
+        rho = min(Fz, params.patch.Fz_max) / params.patch.vertical_stiffness
+        w = ring_pulse_weights(a, rho, params.patch.R0, params.R_e, n_rev)
+    else:
+        w = harmonic_weights(a, params.R_e, n_rev)
     n = np.arange(1, w.size + 1, dtype=float)
     V = np.asarray(V, float)
     T = np.asarray(T, float)

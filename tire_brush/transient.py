@@ -179,8 +179,9 @@ class TransientBrushTire:
 
         With water of depth ``d > 0`` (the step's ``water_depth``), the elements read
         ``mu = (1 - w) mu_w0 + w mu_w1`` of the wet branch at ``d`` and at the drainage time
-        ``drain_scale * 2a / |V_r|`` (each element's time in the footprint), exact at the
-        grid's (v, T, p) nodes (:func:`tire_brush.wet_friction.wet_branch_table`), and the
+        ``drain_scale * 2a / U`` (the water film's time under the footprint at the
+        entrainment speed ``U = (|vx| + |V_r|) / 2``, :mod:`tire_brush.wet_friction`), exact
+        at the grid's (v, T, p) nodes (:func:`tire_brush.wet_friction.wet_branch_table`), and the
         water carries Horne's share of the load (:mod:`tire_brush.hydroplaning`).
         """
         if wet is None:

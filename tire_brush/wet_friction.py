@@ -5,8 +5,13 @@ and the drainage time t_drain besides (slip speed, temperature, pressure). A rol
 fixes both for all its tread elements at one operating point:
 
 * the water depth d on the road (an input of the test: 1 mm in UN R117 Annex 5);
-* the drainage time: a tread element stays in the footprint for t_fp = 2a / V_r (patch
-  length 2a at the road-carried load, rolling speed V_r), and the water must leave its
+* the drainage time: the water film between tread and road is carried through the footprint
+  at the entrainment speed U = (|v_x| + |V_r|) / 2, the mean of the two surfaces' speeds
+  relative to the patch (the wedge term of Reynolds' equation: Reynolds, Phil. Trans. R.
+  Soc. 177 (1886) 157; Hamrock, Schmid & Jacobson, *Fundamentals of Fluid Film Lubrication*,
+  2nd ed. (2004), ch. 7), so it spends t_fp = 2a / U under the patch (patch length 2a at the
+  road-carried load): 2a / v_x when the wheel rolls freely, twice that when it is locked
+  (the road moves through the patch, the tread does not), and the water must leave the
   macroasperity contacts within that time. The grid's axis is t_drain = t_fp (D / 2R)^2 with
   R the drainage radius (Stefan's law: only t / R^2 matters; :mod:`lookup.wet.friction`
   item 2). Default R = D / 2: the water leaves each macroasperity contact into the road's
@@ -15,9 +20,12 @@ fixes both for all its tread elements at one operating point:
   need R of the order of a tread block's half-width (~10 mm: t_drain ~ t_fp / 400); the
   study spec can set it.
 
-For each rolling speed this gives a :class:`~tire_brush.friction.BranchTable` on the dry
-grid's own nodes (log10 v, T, log10 p): mu_cold and mu_hot are the wet branch
-(:meth:`lookup.grid.wet.WetGrid.interpolate` at d and t_drain, exact at the v, T, p nodes), so
+For each operating point (forward speed, slip, road load) this gives a
+:class:`~tire_brush.friction.BranchTable` on the dry grid's own nodes (log10 v, T, log10 p):
+mu_cold and mu_hot are the wet branch (:meth:`lookup.grid.wet.WetGrid.interpolate` at d and
+t_drain, exact at the v, T, p nodes; the tables at the grid's drainage-time nodes are built
+once and blended linearly in log10 t_drain, which is exact because the wet branch is
+multilinear in it), so
 the steady brush reads the wet friction with the same multilinear interpolation and clamping
 as the dry one. dT_flash is the dry grid's (the wet branch does not store a flash temperature;
 the steady brush reports it and does not use it).
@@ -82,14 +90,21 @@ class WetRoad:
                              value=r)
 
 
-def footprint_time(params: TireParams, Fz: float, V: float) -> float:
-    """Time t_fp = 2a / |V| [s] a tread element spends in the footprint at load Fz [N] and
-    rolling speed V [m/s] (patch half-length a of Pacejka 2012 eq. A3.7)."""
+def entrainment_speed(vx: float, V_r: float) -> float:
+    """U = (|vx| + |V_r|) / 2 [m/s]: the speed at which the water film is carried through the
+    footprint (module docstring), from the forward speed vx and the rolling speed V_r."""
+    return 0.5 * (abs(float(vx)) + abs(float(V_r)))
+
+
+def footprint_time(params: TireParams, Fz: float, U: float) -> float:
+    """Time t_fp = 2a / |U| [s] the water film spends under the footprint at load Fz [N] and
+    entrainment speed U [m/s] (:func:`entrainment_speed`; patch half-length a of Pacejka
+    2012 eq. A3.7)."""
     a, _ = params.patch.size(float(Fz))
-    if not (abs(V) > 0 and a > 0):
-        raise InputError("needs a load > 0 N and a rolling speed != 0 m/s", field="V",
-                         value=(Fz, V))
-    return 2.0 * a / abs(float(V))
+    if not (abs(U) > 0 and a > 0):
+        raise InputError("needs a load > 0 N and an entrainment speed != 0 m/s", field="U",
+                         value=(Fz, U))
+    return 2.0 * a / abs(float(U))
 
 
 def drainage_time(t_fp: float, D: float, drainage_radius: float | None = None) -> float:
@@ -147,7 +162,8 @@ class WetTireFriction:
         self.hydroplaning = bool(hydroplaning)
         self._kw = {} if n_elements is None else {"n_elements": n_elements}
         self._dry = SteadyBrush(params, dry_grid, **self._kw) if road.water_depth == 0 else None
-        self._by_speed: dict[tuple[float, float], SteadyBrush] = {}
+        self._by_point: dict[tuple[float, float, float], SteadyBrush] = {}
+        self._node_tables: dict[int, BranchTable] = {}
         self.D = float(dry_grid.meta["D_m"])
 
     def lifted_share(self, vx: Any) -> np.ndarray:
@@ -158,21 +174,51 @@ class WetTireFriction:
                             self.road.tread_depth, self.params.tread.void_ratio,
                             self.road.texture_depth)
 
-    def t_drain(self, vx: float, Fz_road: float) -> float:
-        """Drainage time [s] at forward speed ``vx`` [m/s] and road load ``Fz_road`` [N]."""
-        return drainage_time(footprint_time(self.params, Fz_road, vx), self.D,
+    def t_drain(self, vx: float, Fz_road: float, kappa: float = 0.0) -> float:
+        """Drainage time [s] at forward speed ``vx`` [m/s], road load ``Fz_road`` [N] and
+        longitudinal slip ``kappa`` (rolling speed V_r = vx (1 + kappa); the film passes the
+        footprint at the entrainment speed, module docstring)."""
+        U = entrainment_speed(vx, float(vx) * (1.0 + float(kappa)))
+        return drainage_time(footprint_time(self.params, Fz_road, U), self.D,
                              self.road.drainage_radius)
 
-    def brush(self, vx: float, Fz_road: float) -> SteadyBrush:
-        """The steady brush with the friction of speed ``vx`` and road load ``Fz_road``."""
+    def _node_table(self, i: int) -> BranchTable:
+        b = self._node_tables.get(i)
+        if b is None:
+            t = 10.0 ** float(self.wet_grid.axes["log10_t_drain"][i])
+            b = self._node_tables[i] = wet_branch_table(self.dry_grid, self.wet_grid,
+                                                        self.road.water_depth, t)
+        return b
+
+    def table(self, t_drain: float) -> BranchTable:
+        """The wet branch table at ``t_drain`` [s]: the tables at the two neighbouring
+        drainage-time nodes blended linearly in log10 t_drain (clamped at the axis ends),
+        equal to :func:`wet_branch_table` at ``t_drain`` (the branch is multilinear in it)."""
+        ax = self.wet_grid.axes["log10_t_drain"]
+        lt = float(np.clip(np.log10(t_drain), ax[0], ax[-1]))
+        i = int(np.clip(np.searchsorted(ax, lt, side="right") - 1, 0, ax.size - 2))
+        f = (lt - ax[i]) / (ax[i + 1] - ax[i])
+        t0, t1 = self._node_table(i), self._node_table(i + 1)
+        if f == 0.0:
+            return t0
+        if f == 1.0:
+            return t1
+        vals = (1.0 - f) * t0.values + f * t1.values
+        vals[..., 2] = t0.values[..., 2]  # dT_flash: the dry grid's at every drainage time
+        desc = {**t0.description,
+                "wet": {**t0.description["wet"], "t_drain_s": float(t_drain)}}
+        return BranchTable(t0.log10_v, t0.T, t0.log10_p, vals, t0.s0, desc)
+
+    def brush(self, vx: float, Fz_road: float, kappa: float = 0.0) -> SteadyBrush:
+        """The steady brush with the friction of forward speed ``vx``, road load ``Fz_road``
+        and slip ``kappa`` (which set the drainage time)."""
         if self._dry is not None:
             return self._dry
-        key = (float(vx), float(Fz_road))
-        b = self._by_speed.get(key)
+        t = self.t_drain(vx, Fz_road, kappa)
+        key = (float(vx), float(Fz_road), float(t))
+        b = self._by_point.get(key)
         if b is None:
-            table = wet_branch_table(self.dry_grid, self.wet_grid, self.road.water_depth,
-                                     self.t_drain(vx, Fz_road))
-            b = self._by_speed[key] = SteadyBrush(self.params, table, **self._kw)
+            b = self._by_point[key] = SteadyBrush(self.params, self.table(t), **self._kw)
         return b
 
     def __call__(self, kappa: Any, vx: Any, Fz: Any, T_K: Any) -> np.ndarray:
@@ -183,13 +229,17 @@ class WetTireFriction:
         if (v <= 0).any():
             raise InputError("needs forward speeds > 0 m/s", field="vx")
         out = np.zeros(k.shape)
-        pairs = np.stack([v.ravel(), f.ravel()], axis=1)
-        for vv, ff in np.unique(pairs, axis=0):
+        cols = [v.ravel(), f.ravel()] if self._dry is not None else [v.ravel(), f.ravel(),
+                                                                       k.ravel()]
+        for row in np.unique(np.stack(cols, axis=1), axis=0):
+            vv, ff = row[0], row[1]
             sel = (v == vv) & (f == ff)
+            if self._dry is None:
+                sel &= k == row[2]
             keep = 1.0 - float(self.lifted_share(vv))
             if keep <= 0.0:
                 continue  # fully hydroplaning: no road contact, no force
-            brush = self.brush(vv, keep * ff)
+            brush = self.brush(vv, keep * ff, float(row[2]) if self._dry is None else 0.0)
             out[sel] = keep * brush.fx_over_fz(k[sel], vv, keep * ff, t[sel])
         return out
 

@@ -4,9 +4,9 @@
   BFC = (v1^2 - v2^2) / (2 g d) (mean fully developed deceleration over g; the regulation's
   vehicle method brakes from 80 to 20 km/h); the trailer method's peak BFC = max Fx / Fz.
 * Temperature correction: a BFC measured at the wetted-surface temperature T is brought to
-  20 C by adding ``TEMPERATURE_COEFFICIENT * (T - 20 C)`` (as used here: +0.002 per K; the
-  coefficient should be checked against the regulation's current text, which was not
-  available when this module was written).
+  20 C by adding ``TEMPERATURE_COEFFICIENT * (T - 20 C)``, a = 0.002 per K about 20 C (UN
+  Regulation No. 117, 04 series, Annex 5: the reference tire's peak braking force
+  coefficient corrected with a = 0.002 /degC).
 * Wet grip index of a candidate tire against the standard reference test tire (SRTT), whose
   index is 1.25 by definition: G = 1.25 BFC_candidate / BFC_reference, both corrected to
   20 C.

@@ -14,9 +14,13 @@ review eqs. 17-21) with three changes at every evaluation, on both branches:
    lower it further (review sec. 8: ~10 % of the load in sealed regions); that is not
    modelled, so the adhesive term is an upper bound.
 2. **Squeeze-out** (:mod:`lookup.wet.squeeze`): the adhesive term sigma_f A/A0 / sigma0 is
-   multiplied by the dry share w of the real contact after the available time: the
-   macroasperity contact time D / v for a sliding block (``t_contact=None``), or a given time
-   (a tire's tread element in the footprint: patch length / rolling speed). The water drains
+   multiplied by the dry share w = w_macro w_asp of the real contact. w_macro: the macro
+   contact drained after the available time, the macroasperity contact time D / v for a
+   sliding block (``t_contact=None``), or a given time (a tire's tread element in the
+   footprint: patch length over the entrainment speed). w_asp: the share of the real
+   contact whose film collapses within the asperity contacts' own lifetime at the sliding
+   speed v (pi / q1 over v; Stefan's law, :func:`lookup.wet.squeeze.asperity_dry_share`),
+   which depends on v, T and the pressure but not on the available time. The water drains
    over the radius R (``drainage_radius``; default D/2, the macroasperity contact). In the
    squeeze-out model the time enters only as t / R^2 (Stefan's law), so a table over the
    *drainage time* t_drain = t (D / 2R)^2 at R = D/2 serves any drainage radius: a tire
@@ -53,7 +57,7 @@ from tirefric.errors import InputError
 from ..contact import Phi, contact_fraction
 from ..friction import PerssonFriction
 from .sealing import SealedSpectrum, SealingSettings
-from .squeeze import S_NODES, dry_share, mean_separation
+from .squeeze import S_NODES, asperity_dry_share, dry_share, mean_separation
 from .water import Lubricant, check_water_depth
 
 
@@ -103,6 +107,7 @@ class WetPerssonFriction(PerssonFriction):
         self.depth_index = 0
         self.last_w = np.zeros(0)
         self.last_squeeze: tuple | None = None
+        self.last_asperity = np.ones(0)
         self._cold_state: tuple | None = None  # the last cold evaluation's squeeze-out inputs
 
     def at(self, depth_index: int, t_contact: float | None = None,
@@ -174,9 +179,10 @@ class WetPerssonFriction(PerssonFriction):
         i = self.i_m
         f = (np.log(self.q_m) - lq[i - 1]) / self.dl[i - 1]
         P_m = P[:, i - 1] + f * (P[:, i] - P[:, i - 1])
+        G1 = self.area_c * G_dry[:, -1]  # the real contact's G(q1) (its area is P_dry(q1))
         if dT is None:  # the cold state's squeeze-out inputs (end_points reuses them)
-            self._cold_state = (v, T0, sigma0, F_wet, c_area * G, P_m)
-        w = self._weight(v, T0, sigma0, F_wet, c_area * G, P_m)
+            self._cold_state = (v, T0, sigma0, F_wet, c_area * G, P_m, G1)
+        w = self._weight(v, T0, sigma0, F_wet, c_area * G, P_m, G1)
         self.last_w = w
         # real (rubber-road) contact: the dry one (module docstring, item 1); P_dry[:, -1] is
         # the dry engine's area (same G, same operations), so no second dry evaluation
@@ -195,8 +201,10 @@ class WetPerssonFriction(PerssonFriction):
                               axis=1)
 
     def _weight(self, v: np.ndarray, T0: np.ndarray, sigma0: np.ndarray, F: np.ndarray,
-                G: np.ndarray, P_m: np.ndarray) -> np.ndarray:
-        """Dry share w of the real contact (:mod:`lookup.wet.squeeze`)."""
+                G: np.ndarray, P_m: np.ndarray, G1: np.ndarray) -> np.ndarray:
+        """Dry share w = w_macro(t) w_asp(v) of the real contact (:mod:`lookup.wet.squeeze`):
+        the macro contact drained within the available time t, times the share of its
+        asperity contacts dried within their own contact time at the sliding speed v."""
         if self.adhesive_weight is not None:
             return np.full(v.size, float(self.adhesive_weight))
         if not self.lubricant.adhesion:
@@ -205,14 +213,17 @@ class WetPerssonFriction(PerssonFriction):
         u = mean_separation(S_NODES, self.q, F, G, self.i_m, sigma0, P_m,
                             self.settings.gamma)
         R = 0.5 * self.D if self.drainage_radius is None else self.drainage_radius
-        self.last_squeeze = (self.lubricant.viscosity(T0), R, sigma0, P_m, u)
-        return dry_share(t, *self.last_squeeze)
+        eta = self.lubricant.viscosity(T0)
+        self.last_squeeze = (eta, R, sigma0, P_m, u)
+        self.last_asperity = asperity_dry_share(v, eta, self.q1, sigma0, G1)
+        return dry_share(t, *self.last_squeeze) * self.last_asperity
 
     def end_points(self, v: Any, T0: Any, sigma0: Any, t_drain: Any) -> dict[str, np.ndarray]:
         """Everything the wet branch of a grid needs at the selected depth node (> 0).
 
         Cold and hot friction with the dry share forced to w = 0 and w = 1, and the dry share
-        w after each drainage time ``t_drain`` [s] (cold state, lubricant at T0), for points
+        w = w_macro(t_drain) w_asp(v) after each drainage time ``t_drain`` [s] (cold state,
+        lubricant at T0; :meth:`_weight`), for points
         v [m/s], T0 [K], sigma0 [Pa] (arrays broadcast; results have their shape, ``w_dry``
         has ``(len(t_drain),) + shape``).
 
@@ -241,13 +252,16 @@ class WetPerssonFriction(PerssonFriction):
         finally:
             self.adhesive_weight, self.t_contact = saved
         if self.lubricant.adhesion:
-            _, T_, s_, F_, G_, Pm_ = state
+            v_, T_, s_, F_, G_, Pm_, G1_ = state
             u = mean_separation(S_NODES, self.q, F_, G_, self.i_m, s_, Pm_,
                                 self.settings.gamma)
             R = 0.5 * self.D if self.drainage_radius is None else self.drainage_radius
-            args = (self.lubricant.viscosity(T_), R, s_, Pm_, u)
+            eta = self.lubricant.viscosity(T_)
+            args = (eta, R, s_, Pm_, u)
             self.last_squeeze = args
-            w = np.stack([dry_share(np.full(v.size, t), *args) for t in t_drain])
+            self.last_asperity = asperity_dry_share(v_, eta, self.q1, s_, G1_)
+            w = np.stack([dry_share(np.full(v.size, t), *args) * self.last_asperity
+                          for t in t_drain])
         else:  # soapy water: no adhesive term at any time
             w = np.zeros((t_drain.size, v.size))
         return {"mu_wet_cold_w0": c1["mu_visc"].reshape(shape),
@@ -257,14 +271,16 @@ class WetPerssonFriction(PerssonFriction):
 
     def dry_shares(self, t_contact: np.ndarray) -> np.ndarray:
         """Dry share w at other available times [s] for the points of the last squeeze-out
-        evaluation (``last_squeeze``): shape (len(t_contact), points). Only the time changes,
-        so the separation law u is reused (:func:`lookup.wet.squeeze.dry_share` with the same
-        arguments: the values equal a new evaluation at each time)."""
+        evaluation (``last_squeeze``, ``last_asperity``): shape (len(t_contact), points). Only
+        the time changes, so the separation law u and the asperity share are reused
+        (:func:`lookup.wet.squeeze.dry_share` with the same arguments: the values equal a new
+        evaluation at each time)."""
         if getattr(self, "last_squeeze", None) is None:
             raise InputError("no squeeze-out evaluated yet (call cold() with a wet depth "
                              "node first)", field="t_contact")
         n = self.last_squeeze[2].size
         return np.stack([dry_share(np.full(n, float(t)), *self.last_squeeze)
+                         * self.last_asperity
                          for t in np.atleast_1d(np.asarray(t_contact, float))])
 
     def wet_table(self, v: Any, T0: float, sigma0: float) -> dict[str, np.ndarray]:

@@ -45,6 +45,45 @@ squeeze-out between solids with rough surfaces"):
 The available time is the macroasperity contact time D / v for a sliding block and the tread
 element's time in the footprint for a tire (:mod:`lookup.wet.friction`). The viscosity is that
 of the lubricant at the background temperature T0 (:mod:`lookup.wet.water`).
+
+**The asperity contacts while sliding** (:func:`asperity_dry_share`). The macro contact's
+drainage above builds the solid contact the contact mechanics predicts, but a contact region
+at the highest magnification is dry only once the water film on it has been thinned to the
+thickness at which it collapses; while the rubber slides, each such region exists only for
+its size over the sliding speed (review sec. 8: "at much higher sliding speeds, there is
+insufficient time for the water film to be fully squeezed out"). The law:
+
+5. **Contact regions at q1.** Review eq. (17) excites the rubber at scale q with the frequency
+   q v cos(phi): a contact region of that scale is deformed for half a period, so it has the
+   diameter d = pi / q and lasts d / v. At q1 (the real contact) the radius is
+   r = pi / (2 q1).
+6. **Stefan squeeze film** of a disc of radius r under the local pressure sigma (Stefan 1874;
+   Reynolds, Phil. Trans. R. Soc. 177 (1886) 157; the rigid-disc form
+   t = (3 pi eta r^4 / 4F) (1/h^2 - 1/h0^2) with F = pi r^2 sigma): from a thick film
+   (h0 >> h) the film reaches h after t = 3 eta r^2 / (4 sigma h^2).
+7. **Collapse thickness.** Below h_c = 40 nm the film collapses and the surfaces spring into
+   adhesive contact (Roberts & Tabor, Proc. R. Soc. A 325 (1971) 323, as quoted in review
+   sec. 8: "When the thickness of the film falls below 40 nm, the surfaces suddenly spring
+   together"). A contact region is dry if t(h_c) <= d / v, i.e. if its pressure exceeds
+   sigma* = 3 eta r |v| / (8 h_c^2).
+8. **Pressure distribution.** The share of the real contact at q1 with pressure above
+   sigma* follows from Persson's contact-pressure distribution (Persson, J. Chem. Phys. 115
+   (2001) 3840; review eq. (18) is its integral over sigma > 0),
+   P(sigma) = [exp(-(sigma - sigma0)^2 / s^2) - exp(-(sigma + sigma0)^2 / s^2)] / (s sqrt(pi)),
+   s = 2 sigma0 sqrt(G(q1)):
+
+   .. math::
+
+       w_{asp} = \frac{\mathrm{erfc}((\sigma^* - \sigma_0)/s) - \mathrm{erfc}((\sigma^*
+                 + \sigma_0)/s)}{2\,\mathrm{erf}(\sigma_0 / s)},
+
+   1 at v = 0 and falling to 0 as the sliding speed grows. Where the film stays, the adhesive
+   term is removed (the film's viscous shear eta v / h is left out: at 28 m/s and h = 0.1 um it
+   is ~0.3 MPa on the real contact, against sigma_f of MPa; docs/physics.md sec. 7a).
+
+The two squeeze-outs act in series: the dry share of the real contact is
+w = w_macro(t) w_asp(v), the macro contact's drainage within the available time t times the
+share of its asperity contacts dried within their own contact time.
 """
 
 from __future__ import annotations
@@ -52,7 +91,11 @@ from __future__ import annotations
 from functools import lru_cache
 
 import numpy as np
-from scipy.special import erf
+from scipy.special import erf, erfc
+
+#: Film thickness [m] below which a squeezed water film collapses into adhesive contact
+#: (Roberts & Tabor 1971, review sec. 8; module item 7).
+H_COLLAPSE = 40e-9
 
 #: Solid-pressure ratios s = p_s / sigma_m at which u_bar and the drainage time are tabulated.
 S_NODES = np.concatenate([np.geomspace(1e-6, 0.5, 30), 1.0 - np.geomspace(0.5, 1e-4, 14)[1:]])
@@ -160,3 +203,46 @@ def dry_share(t_avail: np.ndarray, eta: np.ndarray, R: float, sigma0: np.ndarray
     for b in range(lta.size):  # t is increasing in s; interpolate s at t = t_avail
         out[b] = np.interp(lta[b], lt[b], s, left=0.0, right=s[-1])
     return np.where(lta < lt[:, 0], 0.0, out)
+
+
+def asperity_pressure_threshold(v: np.ndarray, eta: np.ndarray, q1: float,
+                                h_c: float = H_COLLAPSE) -> np.ndarray:
+    """sigma* = 3 eta r |v| / (8 h_c^2) [Pa] with r = pi / (2 q1) (module items 5-7): the
+    least local pressure that thins the film on a contact region of radius r from a thick
+    film to h_c within its contact time 2 r / |v| (Stefan's law)."""
+    r = 0.5 * np.pi / q1
+    return 3.0 * np.asarray(eta, float) * r * np.abs(np.asarray(v, float)) / (8.0 * h_c * h_c)
+
+
+def asperity_dry_share(v: np.ndarray, eta: np.ndarray, q1: float, sigma0: np.ndarray,
+                       G1: np.ndarray, h_c: float = H_COLLAPSE) -> np.ndarray:
+    """Share w_asp of the real contact at q1 whose water film collapses within the contact
+    regions' lifetime (module items 5-8).
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Sliding speed [m/s].
+    eta : numpy.ndarray
+        Viscosity of the lubricant [Pa s].
+    q1 : float
+        Largest wavenumber of the roughness [1/m] (the real contact's scale).
+    sigma0 : numpy.ndarray
+        Nominal pressure [Pa].
+    G1 : numpy.ndarray
+        The contact mechanics' G(q1) (review eq. 19) of the real contact, > 0.
+    h_c : float
+        Collapse thickness [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        w_asp in [0, 1] (broadcast shape of the inputs).
+    """
+    sig = np.asarray(sigma0, float)
+    s = 2.0 * sig * np.sqrt(np.asarray(G1, float))
+    st = asperity_pressure_threshold(v, eta, q1, h_c)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        num = 0.5 * (erfc((st - sig) / s) - erfc((st + sig) / s))
+        w = num / erf(sig / s)
+    return np.clip(np.where(s > 0, w, 1.0), 0.0, 1.0)

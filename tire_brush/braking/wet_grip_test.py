@@ -38,6 +38,11 @@ from .simulation import SimResult, SimSettings, simulate_braking
 from .slip_map import optimal_slip
 from .study import abs_slip_schedule
 
+#: The reference tire's windows of UN R117 Annex 5, temperature-corrected to 20 C: the
+#: trailer method's peak braking force coefficient 0.65-0.90 (R117 Annex 5, 04 series);
+#: the vehicle method's BFC 0.57-0.79 as quoted in models/studies/wet_grip.toml.
+REFERENCE_WINDOWS: dict[str, tuple[float, float]] = {"bfc": (0.57, 0.79), "peak": (0.65, 0.90)}
+
 
 @dataclass(frozen=True)
 class TireEntry:
@@ -266,6 +271,22 @@ def run_wet_grip(spec: WetGripSpec, tire: str = "passenger", T_C: float | None =
     else:
         ref, ref_runs = tire_result(spec, spec.reference_tire, T_K, depth, grids)
     G = wet_grip_index(cand["bfc_wet"], ref["bfc_wet"], T_C_, T_C_)
+    notes = ([] if wet_axis[0] <= depth <= wet_axis[-1] and depth in wet_axis else
+             [f"water depth {depth:g} m is not a node of the grid's wet branch "
+              f"{wet_axis.tolist()}: friction interpolated linearly in depth, clamped "
+              "above the last node"])
+    in_windows = {}
+    for key, name, value in (("bfc", "braking force coefficient (vehicle method)",
+                              ref["bfc_wet"]), ("peak", "peak braking force coefficient "
+                                                        "(trailer method)", ref["peak_wet"])):
+        lo, hi = REFERENCE_WINDOWS[key]
+        corrected = temperature_corrected(value, T_C_)
+        in_windows[key] = bool(lo <= corrected <= hi)
+        if not in_windows[key]:
+            notes.append(f"the reference tire {spec.reference_tire!r} leaves the "
+                         f"regulation's window of the {name}: {corrected:.3f} at 20 C "
+                         f"(measured {value:.3f} at {T_C_:g} C) outside {lo:g} ... {hi:g}; "
+                         "the test is not valid there (UN R117 Annex 5)")
     G_trailer = wet_grip_index(cand["peak_wet"], ref["peak_wet"], T_C_, T_C_)
     doc = {
         "test": "UN R117 Annex 5 / ISO 23671 wet grip (vehicle and trailer methods)",
@@ -277,13 +298,9 @@ def run_wet_grip(spec: WetGripSpec, tire: str = "passenger", T_C: float | None =
         "bfc_reference_20C": temperature_corrected(ref["bfc_wet"], T_C_),
         "temperature_coefficient_per_K": TEMPERATURE_COEFFICIENT,
         "G": G, "G_trailer": G_trailer, "label_class": label_class(G),
-        "reference_windows": {"bfc": [0.57, 0.79], "peak": [0.65, 0.90]},
-        "reference_in_windows": {"bfc": bool(0.57 <= ref["bfc_wet"] <= 0.79),
-                                 "peak": bool(0.65 <= ref["peak_wet"] <= 0.90)},
-        "notes": ([] if wet_axis[0] <= depth <= wet_axis[-1] and depth in wet_axis else
-                  [f"water depth {depth:g} m is not a node of the grid's wet branch "
-                   f"{wet_axis.tolist()}: friction interpolated linearly in depth, clamped "
-                   "above the last node"]),
+        "reference_windows": {k: list(v) for k, v in REFERENCE_WINDOWS.items()},
+        "reference_in_windows": in_windows,
+        "notes": notes,
         "spec": spec.source,
     }
     return doc, {"candidate": cand_runs, "reference": ref_runs}

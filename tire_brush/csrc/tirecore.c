@@ -1539,8 +1539,12 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         if (!(ns <= 2147483647.0)) return -1;     /* more outer steps than an int counts */
         int n_sub = ns > 1.0 ? (int)ns : 1;
         double h = dt / n_sub;
-        if (wet && a > 0.0)     /* drainage time: drain_scale times the time in the footprint */
-            lt_drain = V_r != 0.0 ? log10(wet->drain_scale * (2.0 * a / fabs(V_r))) : INFINITY;
+        if (wet && a > 0.0) {   /* drainage time: drain_scale times the time the water film
+                                 * spends under the patch at the entrainment speed
+                                 * U = (|vx| + |V_r|)/2 (tire_brush.wet_friction) */
+            double U = 0.5 * (fabs(vx) + fabs(V_r));
+            lt_drain = U > 0.0 ? log10(wet->drain_scale * (2.0 * a / U)) : INFINITY;
+        }
         /* camber: the base spins at -(1 - eps) omega sin(gamma) (tirecore.h) */
         double wc = -(1.0 - p->camber_reduction) * omega * sin(gam);
         /* rolling resistance at the start of the step, held over it */

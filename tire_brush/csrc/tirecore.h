@@ -100,8 +100,9 @@ TF_API void tf_table_free(tf_table *t);
  * off (w = 0) and on (w = 1): cold_w0, cold_w1, hot_w0, hot_w1 (all >= 0);
  * w_dry[(((id * nt + it) * nv + iv) * nT + iT) * np + ip], the dry share of the real contact.
  * Read: mu = (1 - w) mu_w0 + w mu_w1, w clipped to [0, 1], multilinear in (depth, log10 t)
- * at the nodes. The drainage time of a tread element is drain_scale times its time in the
- * footprint, 2a / |V_r| (drain_scale = (D / 2R)^2, 1 for draining over D / 2). Hydroplaning
+ * at the nodes. The drainage time is drain_scale times the time the water film spends under
+ * the footprint, 2a / U at the entrainment speed U = (|vx| + |V_r|) / 2
+ * (tire_brush.wet_friction; drain_scale = (D / 2R)^2, 1 for draining over D / 2). Hydroplaning
  * (Horne, NASA TN D-2056): the water carries the share s(d) min(1, (|vx| / V_p)^2) of the
  * load, V_p = 6.35 sqrt(p_inflation / kPa) km/h, s rising linearly from 0 at the depth the
  * grooves and the road's texture hold (void_ratio tread_depth + texture_depth,

@@ -1,0 +1,124 @@
+"""The EU label's physics against what tires measure (a report, not a timed test).
+
+Prints, for the shipped passenger tire and the wet reference road (docs/label.md, docs/rolling.md,
+docs/physics.md sec. 7a):
+
+* rolling resistance at the ISO 28580 conditions: RRC [N/kN] and class, its change per K over
+  20-30 C, the load exponent (F_r ~ Fz^alpha, 0.5-1.2 x the load-index load) and the pressure
+  exponent (F_r ~ p^beta, 180-250 kPa), and f_r over speed;
+* wet friction against speed: the locked wheel's Fx/Fz at 20, 60 and 100 km/h on the wet
+  reference road (and dry), at 5, 20 and 35 C, and the ratio mu(100)/mu(20), next to the
+  PIARC speed constant of the road's texture (Sp = 14.2 + 89.7 MPD km/h, ASTM E1960);
+* the wet grip test at 5 ... 35 C: BFC of the passenger tire and the reference tire, the
+  reference tire's windows, dBFC/dT, G and the classes.
+
+Usage: ``python benchmarks/bench_label.py [--quick]`` (--quick: 5 / 20 / 35 C only).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+
+def rolling_report() -> dict:
+    from dataclasses import replace
+
+    from lookup.compound import load_compound
+    from tire_brush.params import load_tire
+    from tire_brush.rolling_resistance import iso28580, load_rolling_params, rolling_resistance
+
+    tire = load_tire("passenger")
+    rr = load_rolling_params(tire)
+    comp = load_compound("summer")
+    iso = iso28580(tire, comp, rr=rr)
+    iso_tire = replace(tire, patch=replace(tire.patch, p_inflation=rr.iso_inflation))
+    V, T = 80 / 3.6, 298.15
+    loads = np.array([0.5, 1.2]) * rr.load_index_load
+    Fr = rolling_resistance(iso_tire, comp, V, loads, T, rr=rr).F_r
+    alpha = math.log(Fr[1] / Fr[0]) / math.log(loads[1] / loads[0])
+    ps = np.array([210e3, 250e3])
+    Frp = [float(rolling_resistance(replace(tire, patch=replace(tire.patch, p_inflation=p)),
+                                    comp, V, iso.load_N, T, rr=rr).F_r) for p in ps]
+    beta = math.log(Frp[1] / Frp[0]) / math.log(ps[1] / ps[0])
+    speeds = np.array([20, 50, 80, 120, 150]) / 3.6
+    fv = rolling_resistance(iso_tire, comp, speeds, iso.load_N, T, rr=rr)
+    parts = rolling_resistance(iso_tire, comp, V, iso.load_N, T, rr=rr)
+    return {"rrc": iso.rrc_N_per_kN, "class": iso.label_class, "per_K": 100 * iso.per_K,
+            "alpha": alpha, "beta": beta, "f_tread": 1e3 * float(parts.f_tread),
+            "f_carcass": 1e3 * float(parts.f_carcass),
+            "f_v": (fv.f_r / fv.f_r[2]).tolist()}
+
+
+def wet_speed_report(temps) -> list[dict]:
+    from tire_brush.braking.wet_grip_test import _grids, friction_source, load_wet_grip_spec
+
+    spec = load_wet_grip_spec()
+    grids = _grids(spec.grid)
+    out = []
+    for d in (spec.water_depth, 0.0):
+        src = friction_source(spec, "passenger", d, grids)
+        for T in temps:
+            mu = [-float(src(np.array([-1.0]), v / 3.6, spec.car.Fz, T + 273.15)[0])
+                  for v in (20, 60, 100)]
+            out.append({"depth_mm": d * 1e3, "T_C": T, "mu": mu, "ratio": mu[2] / mu[0]})
+    return out
+
+
+def wet_grip_report(temps) -> list[dict]:
+    from tire_brush.braking.wet_grip_test import load_wet_grip_spec, run_wet_grip
+
+    spec = load_wet_grip_spec()
+    rows = []
+    for T in temps:
+        doc, _ = run_wet_grip(spec, "passenger", T)
+        rows.append({"T_C": T, "bfc": doc["candidate"]["bfc_wet"],
+                     "bfc_ref": doc["reference"]["bfc_wet"],
+                     "peak_ref": doc["reference"]["peak_wet"], "G": doc["G"],
+                     "class": doc["label_class"], "in_windows": doc["reference_in_windows"],
+                     "notes": len(doc["notes"])})
+    return rows
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true")
+    args = ap.parse_args()
+    temps = [5.0, 20.0, 35.0] if args.quick else [5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0]
+    t0 = time.perf_counter()
+    r = rolling_report()
+    print("rolling resistance (ISO 28580: 80 km/h, 25 C, 4825 N, 210 kPa)")
+    print(f"  RRC {r['rrc']:.2f} N/kN (tread {r['f_tread']:.2f}, carcass {r['f_carcass']:.2f}),"
+          f" class {r['class']}   [passenger tires 6-12 N/kN]")
+    print(f"  change per K {r['per_K']:+.2f} %/K   [ISO 28580: -0.8 %/K; accepted -0.5..-1.2]")
+    print(f"  load exponent {r['alpha']:.3f}   [0.85-1.05]; pressure exponent {r['beta']:.3f}"
+          f"   [-0.25..-0.5]")
+    print("  f_r(V)/f_r(80 km/h) at 20/50/80/120/150 km/h: "
+          + " / ".join(f"{x:.3f}" for x in r["f_v"]))
+    mpd = (0.7 - 0.2) / 0.8
+    sp = 14.2 + 89.7 * mpd
+    print(f"wet locked wheel Fx/Fz at 20 / 60 / 100 km/h (r117_wet, MPD {mpd:.3f} mm: PIARC "
+          f"Sp = {sp:.0f} km/h, exp(-80/Sp) = {math.exp(-80 / sp):.2f})")
+    for row in wet_speed_report([5.0, 20.0, 35.0]):
+        print(f"  {row['depth_mm']:.0f} mm, {row['T_C']:4.0f} C: "
+              + " / ".join(f"{m:.3f}" for m in row["mu"])
+              + f"   mu(100)/mu(20) = {row['ratio']:.3f}   [wet: at most 0.75]")
+    rows = wet_grip_report(temps)
+    print("wet grip test (passenger vs SRTT, 1 mm water)")
+    for row in rows:
+        print(f"  {row['T_C']:4.0f} C: BFC {row['bfc']:.3f}, SRTT BFC {row['bfc_ref']:.3f} "
+              f"peak {row['peak_ref']:.3f}, G {row['G']:.3f} ({row['class']}), in windows "
+              f"{row['in_windows']}, notes {row['notes']}")
+    T = np.array([row["T_C"] for row in rows])
+    for key in ("bfc", "bfc_ref"):
+        slope = np.polyfit(T, [row[key] for row in rows], 1)[0]
+        print(f"  d{key}/dT over {T[0]:g}-{T[-1]:g} C: {slope:+.5f} per K   [-0.006 .. 0]")
+    print(f"({time.perf_counter() - t0:.0f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
