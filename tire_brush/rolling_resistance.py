@@ -65,13 +65,20 @@ glass temperature (Williams, Landel & Ferry, *J. Am. Chem. Soc.* 77, 3701 (1955)
 :math:`\log_{10} a_c = -17.44 (T - T_g)/(51.6 + T - T_g)`. Its parameters are in the tire
 file's ``[rolling_resistance]`` table, each with its source or marked as a judgment.
 
-Limits (approximate physics, said so): the deflection energy of a linear vertical spring makes
-the carcass loss grow as :math:`F_z^2` (f_r proportional to the load), whereas measured
-rolling resistance grows as :math:`F_z^{0.9}` (ISO 28580 / SAE J2452 fits); the missing part is
-the bending of the tread band into and out of the flat footprint, whose energy grows with the
-footprint length, not with the deflection squared. One temperature (the tread's) stands for
-the whole tire; the frequency content is that of a Winkler ring, not of a shell; standing waves
-(above ~150 km/h) are not modelled.
+**Belt and tread band** (:func:`belt_coefficient`): every belt section is flattened over the
+patch and bent back beyond it once per revolution, whatever the load; its bending energy
+follows the contact length, not the deflection squared, and is lost through the belt skim's
+loss tangent; the tread rubber on the belt bends with it (the tread compound's E''). Their
+energy is taken out of the structure's deflection work, the sidewalls keep the rest.
+
+Limits (approximate physics, said so; docs/rolling.md, "Limits"): the sidewalls' deflection
+energy of a linear vertical spring grows as :math:`F_z^2`, and the tread's footprint-pressure
+loss, a compliance loss, rises with the inflation pressure and, on the summer compound's
+rubbery side, with temperature: the whole tire's load exponent (1.10), pressure exponent
+(+0.18) and change per K at 25 C (+0.27 %/K) miss the measured ~0.9, ~-0.4 and -0.8 %/K
+(ISO 28580 / SAE J2452 fits). One temperature (the tread's) stands for the whole tire; the
+frequency content is that of a ring, not of a shell; standing waves (above ~150 km/h) are not
+modelled.
 """
 
 from __future__ import annotations
