@@ -98,6 +98,7 @@ SI_UNITS: dict[str, tuple[str, dict[str, int]]] = {
     "conductance": ("W/K", {"kg": 1, "m": 2, "s": -3, "K": -1}),
     "mass": ("kg", {"kg": 1}),
     "inertia": ("kg.m2", {"kg": 1, "m": 2}),
+    "bending_stiffness": ("N.m2", {"kg": 1, "m": 3, "s": -2}),
     "angle": ("rad", {"rad": 1}),
     "dimensionless": ("1", {}),
     "strain": ("1", {}),
