@@ -3,6 +3,7 @@ failures, worker-count independence, and agreement with the single-compound comm
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -230,3 +231,159 @@ def test_store_key_follows_inputs(tmp_path):
     assert k != compound_key({**d, "name": "d"}, s)
     f.write_text(f.read_text().replace('sigma_f0 = "4 MPa"', 'sigma_f0 = "5 MPa"'))
     assert k != compound_key(d, s)
+
+
+# -- whole screens (slow: each compound builds two grids and brakes four times) -----------------
+THREE = '''[compounds]
+files = ["summer", "missing.toml"]
+[sweep]
+base = "summer"
+method = "factorial"
+n = 2
+[sweep.parameters]
+T_g_shift = ["-4 K", "4 K"]
+'''
+
+
+class Stop(Exception):
+    """Raised by a callback to simulate a run killed after some compounds."""
+
+
+@pytest.fixture(scope="module")
+def screen_a(tiny, tmp_path_factory):
+    """An uninterrupted serial screen of three compounds and a missing file."""
+    from tire_brush.screening import run_screen
+
+    out = tmp_path_factory.mktemp("a")
+    return run_screen(tiny_spec(tiny, THREE), out, workers=1, progress=False,
+                      keep_grids=True)
+
+
+def _outputs(res) -> dict[str, dict]:
+    return {r["name"]: r.get("outputs") for r in res.records}
+
+
+@pytest.mark.slow
+def test_screen_writes_results_and_names_the_bad_compound(screen_a):
+    res = screen_a
+    names = [r["name"] for r in res.records]
+    assert names == ["summer", "missing", "summer_0", "summer_1"]
+    bad = [r for r in res.records if r["status"] != "ok"]
+    assert [r["name"] for r in bad] == ["missing"]
+    assert "file not found" in bad[0]["error"]
+    for f in ("csv", "json", "netcdf", "pareto", "report"):
+        assert Path(res.files[f]).is_file(), f
+    doc = json.loads(Path(res.files["json"]).read_text())
+    rows = {r["name"]: r for r in doc["compounds"]}
+    assert rows["missing"]["status"] == "failed" and rows["missing"]["G"] is None
+    assert "missing" in Path(res.files["report"]).read_text()
+    import xarray as xr
+
+    ds = xr.open_dataset(res.files["netcdf"], engine="h5netcdf")
+    assert "T_g_shift" in ds.coords
+    np.testing.assert_array_equal(ds["G"].values, [r["G"] for r in res.rows()])
+    # the design parameter reached the physics: the variants' numbers differ from the base's
+    o = _outputs(res)
+    assert o["summer_0"]["bfc_wet"] != o["summer"]["bfc_wet"] != o["summer_1"]["bfc_wet"]
+
+
+@pytest.mark.slow
+def test_screen_equals_single_compound_commands(screen_a, tiny):
+    """Each compound's numbers are those of `tirefric label` (wet grip BFC, trailer peak,
+    RRC) and of the braking study's own force map and simulations (ABS, locked) on the same
+    grid files: bit for bit, the same functions on the same inputs. The summer tread is the
+    reference compound, so its wet grip index is the label's."""
+    import dataclasses
+
+    from tire_brush.braking.abs_control import LockedWheel, RuleBasedABS
+    from tire_brush.braking.friction import Case
+    from tire_brush.braking.simulation import simulate_braking
+    from tire_brush.braking.slip_map import optimal_slip
+    from tire_brush.braking.study import abs_slip_schedule, case_force_map, load_study
+    from tire_brush.label import tyre_label_document
+    from tire_brush.rolling_resistance import rolling_resistance
+
+    res = screen_a
+    rows = {r["name"]: r for r in res.rows()}
+    work = res.out / "work"
+    for rec in res.records:
+        if rec["status"] != "ok":
+            continue
+        folder = work / f"{rec['name']}-{rec['key'][:12]}"
+        doc = tyre_label_document("passenger", grid=str(folder / "wet.nc"),
+                                  compound=str(folder / "compound.toml"),
+                                  spec=str(tiny / "wet_grip.toml"))
+        o = rec["outputs"]
+        assert o["bfc_wet"] == doc["wet_grip"]["bfc_candidate"]
+        assert o["rrc_N_per_kN"] == doc["rolling_resistance"]["rrc_N_per_kN"]
+        assert rows[rec["name"]]["rr_class"] == doc["rolling_resistance"]["class"]
+        if rec["name"] == "summer":
+            assert rows["summer"]["G"] == pytest.approx(doc["wet_grip"]["G"], rel=1e-12)
+            assert rows["summer"]["G_trailer"] == pytest.approx(doc["wet_grip"]["G_trailer"],
+                                                                rel=1e-12)
+        # the dry stops through the braking study's own force map
+        st = load_study(tiny / "study.toml")
+        st = dataclasses.replace(st, friction={"source": "brush", "tire": "passenger",
+                                               "grid": str(folder / "dry.nc")},
+                                 maps=dataclasses.replace(st.maps, loads_rel=(1.0,)))
+        case = Case("asphalt", rec["name"], 293.15)
+        fmap, _, _ = case_force_map(st, case)
+        from lookup.compound import load_compound
+        from tire_brush.params import load_tire
+
+        f_r = float(rolling_resistance(load_tire("passenger"),
+                                       load_compound(folder / "compound.toml"),
+                                       0.5 * st.v0, st.car.Fz, case.T_K).f_r)
+        car = dataclasses.replace(st.car, rolling_resistance=f_r)
+        sm = optimal_slip(fmap, np.geomspace(st.v_stop, st.v0, 25), [car.Fz], [case.T_K])
+        sched = abs_slip_schedule(sm) if st.abs_slip_from_map else None
+        locked = simulate_braking(car, fmap, LockedWheel(car.brake_torque_rate_max,
+                                                         st.abs_params.control_period),
+                                  st.v0, st.v_stop, case.T_K, settings=st.simulation)
+        abs_sim = simulate_braking(car, fmap, RuleBasedABS(st.abs_params, car.radius,
+                                                           car.brake_torque_rate_max,
+                                                           slip_schedule=sched),
+                                   st.v0, st.v_stop, case.T_K, settings=st.simulation)
+        assert o["stop_dry_locked_m"] == locked.stopping_distance
+        assert o["stop_dry_abs_m"] == abs_sim.stopping_distance
+
+
+@pytest.mark.slow
+def test_resume_after_a_killed_run_computes_only_the_rest(screen_a, tiny, tmp_path):
+    """A run stopped after two records, then run again: the second run computes only what
+    the first did not finish, and the results equal the uninterrupted run's bit for bit."""
+    from tire_brush.screening import run_screen
+
+    spec = tiny_spec(tiny, THREE)
+    first: list[str] = []
+
+    def stop_after_two(rec):
+        first.append(rec["name"])
+        if len(first) == 2:
+            raise Stop
+
+    with pytest.raises(Stop):
+        run_screen(spec, tmp_path, workers=1, progress=False, on_record=stop_after_two)
+    assert len(list((tmp_path / "compounds").glob("*.json"))) == 2
+    second: list[str] = []
+    res = run_screen(spec, tmp_path, workers=1, progress=False,
+                     on_record=lambda r: second.append(r["name"]))
+    all_tasks = {r["name"] for r in res.records} | {res.reference["name"]}
+    ok_first = [n for n in first if n != "missing"]
+    # failed compounds are tried again (their cause may be fixed); finished ones never
+    assert set(second) == (all_tasks - set(ok_first))
+    assert not set(second) & set(ok_first)
+    assert _outputs(res) == _outputs(screen_a)
+    third: list[str] = []
+    run_screen(spec, tmp_path, workers=1, progress=False,
+               on_record=lambda r: third.append(r["name"]), write=False)
+    assert third == ["missing"]
+
+
+@pytest.mark.slow
+def test_two_workers_give_the_same_numbers_as_one(screen_a, tiny, tmp_path):
+    from tire_brush.screening import run_screen
+
+    res = run_screen(tiny_spec(tiny, THREE), tmp_path, workers=2, progress=False)
+    assert _outputs(res) == _outputs(screen_a)
+    assert res.reference["outputs"] == screen_a.reference["outputs"]

@@ -160,9 +160,9 @@ def result_rows(spec: ScreenSpec, records: list[dict[str, Any]],
         o = r.get("outputs") or {}
         for k in OUTPUTS:
             row[k] = float(o.get(k, math.nan))
-        for k in sorted(o):
-            if k.startswith("mu_peak_"):
-                row[k] = float(o[k])
+        for T in spec.peak_T_K:
+            k = f"mu_peak_{T - 273.15:g}C"
+            row[k] = float(o.get(k, math.nan))
         ok = r["status"] == "ok" and ref_ok
         T_C = reference["outputs"]["T_C"] if ref_ok else math.nan
         G = wet_grip_index(row["bfc_wet"], reference["outputs"]["bfc_wet"], T_C, T_C) \
