@@ -395,7 +395,19 @@ def test_two_workers_give_the_same_numbers_as_one(screen_a, tiny, tmp_path):
 #: speed and pressure axes of the shipped grid specs, per output, as measured on the shipped
 #: tread compounds (benchmarks/screen_resolution.py, docs/screening.md) with a margin for
 #: the platform's last bits; the wet outputs use the full axes (exact by construction).
-SCREENING_TOLERANCE: dict[str, float] = {"bfc_wet": 0.0}
+SCREENING_TOLERANCE: dict[str, float] = {
+    # the wet grid keeps the full speed and pressure axes: the same numbers
+    "bfc_wet": 1e-12, "peak_wet_trailer": 1e-12, "stop_wet_abs_m": 1e-12,
+    "stop_wet_locked_m": 1e-12,
+    # measured at most 0.203 % (racing), 0.396 % (racing at 50 C), 0.167 % (summer)
+    "stop_dry_locked_m": 5e-3, "mu_peak_0C": 1e-2, "mu_peak_20C": 1e-2, "mu_peak_50C": 1e-2,
+    "stop_dry_abs_m": 5e-3,
+}
+
+#: Outputs that are not continuous in the friction on a compound (docs/screening.md: the
+#: rule-based ABS on the racing tread, dry at 20 C, moves by 6.9 % when the force map is
+#: scaled by 1.001), so no resolution bounds them.
+ILL_CONDITIONED: dict[str, set[str]] = {"racing": {"stop_dry_abs_m"}}
 
 
 @pytest.mark.slow
@@ -412,4 +424,6 @@ def test_screening_resolution_tolerance_on_shipped_compounds(compound):
     desc = {"name": compound, "file": str(resolve_model_file(compound, "compounds"))}
     rel = compare(settings, [desc], workers=1)[compound]["rel"]
     for k, tol in SCREENING_TOLERANCE.items():
+        if k in ILL_CONDITIONED.get(compound, set()):
+            continue
         assert abs(rel[k]) <= tol, (k, rel[k], tol)
