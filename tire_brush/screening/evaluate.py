@@ -283,6 +283,7 @@ def evaluate_compound(settings: Settings, desc: dict[str, Any], key: str) -> dic
     from .compounds import compound_table, write_compound
 
     t_start = time.perf_counter()
+    t_epoch = time.time()
     cpu0 = time.process_time()
     record: dict[str, Any] = {"name": desc["name"], "key": key, "description": desc,
                               "status": "ok", "error": None}
@@ -308,7 +309,17 @@ def evaluate_compound(settings: Settings, desc: dict[str, Any], key: str) -> dic
     record.setdefault("seconds", {})
     record["seconds"]["total_s"] = time.perf_counter() - t_start
     record["seconds"]["cpu_s"] = time.process_time() - cpu0
+    record["worker"] = _worker(t_epoch)
     return record
+
+
+def _worker(t_epoch: float) -> dict[str, Any]:
+    """Where and when a task ran (the benchmark's overhead accounting; not an output)."""
+    import os
+    import socket
+
+    return {"host": socket.gethostname(), "pid": os.getpid(), "start_epoch_s": t_epoch,
+            "end_epoch_s": time.time()}
 
 
 def evaluate_reference(settings: Settings, desc: dict[str, Any], key: str) -> dict[str, Any]:
@@ -323,6 +334,7 @@ def evaluate_reference(settings: Settings, desc: dict[str, Any], key: str) -> di
     from .compounds import write_compound
 
     t_start = time.perf_counter()
+    t_epoch = time.time()
     cpu0 = time.process_time()
     record: dict[str, Any] = {"name": desc["name"], "key": key, "description": desc,
                               "status": "ok", "error": None, "reference": True}
@@ -346,6 +358,7 @@ def evaluate_reference(settings: Settings, desc: dict[str, Any], key: str) -> di
         shutil.rmtree(folder, ignore_errors=True)
     record["seconds"] = {"total_s": time.perf_counter() - t_start,
                          "cpu_s": time.process_time() - cpu0}
+    record["worker"] = _worker(t_epoch)
     return record
 
 
