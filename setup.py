@@ -5,14 +5,28 @@ it as an extension file so that a wheel carries it for its platform. All other m
 pyproject.toml.
 """
 
+import ast
 import sys
+from pathlib import Path
 
 from setuptools import Extension, setup
+
+
+def core_cflags() -> list[str]:
+    """The core's compiler flags, ``CORE_CFLAGS`` of tire_brush/ccore.py (one place; read
+    without importing the package, which needs numpy)."""
+    tree = ast.parse((Path(__file__).parent / "tire_brush" / "ccore.py").read_text())
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", None) == "CORE_CFLAGS"
+                                                for t in node.targets):
+            return list(ast.literal_eval(node.value))
+    raise RuntimeError("tire_brush/ccore.py defines no CORE_CFLAGS")
+
 
 if sys.platform == "win32":
     cflags = ["/O2", "/fp:precise"]
 else:
-    cflags = ["-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math"]
+    cflags = core_cflags()
 
 setup(ext_modules=[Extension("tire_brush._tirecore", ["tire_brush/csrc/tirecore.c"],
                              define_macros=[("TF_PYTHON_EXTENSION", "1")],

@@ -52,7 +52,7 @@ def c_driver_times(model: TransientBrushTire, inputs: list[float], n_tires: int,
     t = model.table
     with tempfile.TemporaryDirectory() as d:
         exe = Path(d) / "core_step"
-        subprocess.run([cc, "-std=c99", "-O2", "-ffp-contract=off", "-I",
+        subprocess.run([cc, *ccore.CORE_CFLAGS, "-I",
                         str(ccore.SOURCE_DIR), "-o", str(exe), str(HERE / "core_step.c"),
                         str(ccore.SOURCE_DIR / "tirecore.c"), "-lm"], check=True)
         blob = struct.pack("3i", t.log10_v.size, t.T.size, t.log10_p.size)

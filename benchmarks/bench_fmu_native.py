@@ -8,8 +8,9 @@ shipped grid ``default`` unless told otherwise) at the converged defaults and st
 1 ms communication step at one operating point (braking at 20 m/s with 5 % slip and a slip
 angle of ~1 deg at 4 kN, 20 C; part of the patch sliding):
 
-* through fmpy's ``FMU2Slave`` (Python host, ctypes): median ``fmi2DoStep`` and full cycle
-  (setReal, doStep, getReal), one instance, and four instances in lockstep (real-time factor);
+* through fmpy's ``FMU2Slave`` (Python host, ctypes; ``timing.fmpy_times``, shared with
+  ``bench_fmu.py``): median ``fmi2DoStep`` and full cycle (setReal, doStep, getReal,
+  getInteger), one instance, and four instances in lockstep (real-time factor);
 * through the C host ``fmu_src/runtime/native/host_example.c`` (dlopen, no Python): median
   doStep per tire for one and for four tires, and the real-time factor of four tires;
 * the wrapper's overhead (input guard, value copies, FMI calls) separately: doStep with a
@@ -23,70 +24,21 @@ the wrapper cannot meet the target alone; the numbers say what the wrapper adds.
 
 from __future__ import annotations
 
-import argparse
 import json
 import shutil
-import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 HERE = Path(__file__).parent
 sys.path.insert(0, str(HERE.parent))
 
-INPUTS = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma", "water_depth")
-OUTPUTS = ("Fx", "Fy", "Mz", "kappa", "alpha", "mu_eff", "mu_slide", "sliding_fraction",
-           "dT_flash_max", "T_tread")
-DT = 1e-3
-#: The C host's operating point after its first 20 ms (host_example.c).
-U = [20.0, 0.3, 20.0 * 0.95 / 0.31, 4000.0, 293.15, 1.0, 0.0, 0.0]
+from timing import DT, fmpy_times, fmu_arguments, fmu_under_test, operating_inputs  # noqa: E402
+
+#: The operating point as an input vector (the C host example steps the same point).
+U = operating_inputs()
 TARGET_US, TARGET_RTF4 = 10.0, 25.0
-
-
-def fmpy_times(fmu: Path, unzipdir: str, n_inst: int, steps: int, warmup: int,
-               h: float = DT) -> dict:
-    """Median doStep and cycle [us] through fmpy, and the real-time factor of n_inst tires."""
-    import fmpy
-    from fmpy.fmi2 import FMU2Slave
-
-    md = fmpy.read_model_description(str(fmu))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    vin, vout = [vr[n] for n in INPUTS], [vr[n] for n in OUTPUTS]
-    inst = []
-    for i in range(n_inst):
-        f = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir,
-                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName=f"w{i}")
-        f.instantiate()
-        f.setupExperiment(startTime=0.0)
-        f.enterInitializationMode()
-        f.exitInitializationMode()
-        inst.append(f)
-    do, cyc, t = [], [], 0.0
-    wall = 0.0
-    for k in range(warmup + steps):
-        w0 = time.perf_counter()
-        for f in inst:
-            c0 = time.perf_counter()
-            f.setReal(vin, U)
-            t0 = time.perf_counter()
-            f.doStep(currentCommunicationPoint=t, communicationStepSize=h)
-            t1 = time.perf_counter()
-            f.getReal(vout)
-            c1 = time.perf_counter()
-            if k >= warmup:
-                do.append(t1 - t0)
-                cyc.append(c1 - c0)
-        if k >= warmup:
-            wall += time.perf_counter() - w0
-        t += DT
-    for f in inst:
-        f.terminate()
-        f.freeInstance()
-    return {"doStep_median_us": 1e6 * statistics.median(do),
-            "cycle_median_us": 1e6 * statistics.median(cyc),
-            "real_time_factor": steps * DT / wall}
 
 
 def c_host_times(fmu: Path, unzipdir: str, n_tires: int, steps: int, tmp: Path,
@@ -126,36 +78,19 @@ def core_alone_us(tire: str, grid: str) -> float | None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--tire", default="passenger", help="tire TOML file or shipped name")
-    ap.add_argument("--grid", default="default", help="grid file or shipped name")
-    ap.add_argument("--fmu", default=None, help="use this native FMU instead of building one")
-    ap.add_argument("--steps", type=int, default=2000, help="timed steps")
-    ap.add_argument("--warmup", type=int, default=200, help="untimed steps first (fmpy)")
-    ap.add_argument("--json", action="store_true", help="print JSON")
-    args = ap.parse_args(argv)
-
-    import fmpy
-
+    args = fmu_arguments(__doc__.splitlines()[0], steps=2000, warmup=200).parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="bench_fmu_native_") as tmp_s:
         tmp = Path(tmp_s)
-        if args.fmu:
-            fmu = Path(args.fmu)
-        else:
-            from fmu_src.make.native_build import build_native_fmu
-
-            fmu = build_native_fmu(args.tire, args.grid, tmp / "BrushTireNative.fmu",
-                                   platforms=("linux64",)).path
-        unzipdir = fmpy.extract(str(fmu), str(tmp / "unzipped"))
+        fmu, unzipdir = fmu_under_test(args, tmp, native=True)
         res = {"fmu": str(args.fmu or "built from --tire/--grid"), "grid": args.grid,
                "communication_step_s": DT, "steps": args.steps, "inputs": U,
-               "fmpy_1": fmpy_times(fmu, unzipdir, 1, args.steps, args.warmup),
-               "fmpy_4": fmpy_times(fmu, unzipdir, 4, args.steps // 2, args.warmup),
+               "fmpy_1": fmpy_times(str(fmu), unzipdir, 1, args.steps, args.warmup),
+               "fmpy_4": fmpy_times(str(fmu), unzipdir, 4, args.steps // 2, args.warmup),
                "c_host_1": c_host_times(fmu, unzipdir, 1, args.steps, tmp),
                "c_host_4": c_host_times(fmu, unzipdir, 4, args.steps, tmp),
                # h = 0: the core returns at once; what remains is the FMI layers
                "c_host_h0": c_host_times(fmu, unzipdir, 1, 20 * args.steps, tmp, 0.0),
-               "fmpy_h0": fmpy_times(fmu, unzipdir, 1, 5 * args.steps, args.warmup, 0.0)}
+               "fmpy_h0": fmpy_times(str(fmu), unzipdir, 1, 5 * args.steps, args.warmup, 0.0)}
     core = core_alone_us(args.tire, args.grid)
     res["core_alone_median_us"] = core
     res["wrapper_overhead_us"] = res["c_host_h0"]["doStep_median_us"]

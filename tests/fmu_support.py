@@ -14,9 +14,17 @@ from typing import Any
 
 import numpy as np
 
-INPUTS = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma", "water_depth")
-OUTPUTS = ("Fx", "Fy", "Mz", "kappa", "alpha", "mu_eff", "mu_slide", "sliding_fraction",
-           "dT_flash_max", "T_tread", "Mx", "My")
+
+def __getattr__(name: str) -> Any:
+    """``INPUTS`` and ``OUTPUTS``: the tire's inputs and outputs in order, from the one table
+    (tire_brush.signals), imported when first asked for: :class:`FmuDriver` itself reads them
+    from the FMU's model description, as a host does, and so runs where the project's
+    packages are not importable (the isolation test poisons their names)."""
+    if name in ("INPUTS", "OUTPUTS"):
+        from tire_brush.signals import INPUT_NAMES, OUTPUT_NAMES
+
+        return INPUT_NAMES if name == "INPUTS" else OUTPUT_NAMES
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def synthetic_grid() -> Any:
@@ -99,8 +107,12 @@ class FmuDriver:
             self.set({key: val})
         self.fmu.exitInitializationMode()
         self.time = 0.0
-        self._vin = [self.vr[n] for n in INPUTS]
-        self._vout = [self.vr[n] for n in OUTPUTS]
+        #: the FMU's inputs and Real outputs in the order its model description declares them
+        self.inputs = [v.name for v in self.md.modelVariables if v.causality == "input"]
+        self.output_names = [v.name for v in self.md.modelVariables
+                             if v.causality == "output" and v.type == "Real"]
+        self._vin = [self.vr[n] for n in self.inputs]
+        self._vout = [self.vr[n] for n in self.output_names]
 
     def set(self, values: dict[str, Any]) -> None:
         """Set variables by name."""
@@ -114,7 +126,7 @@ class FmuDriver:
                 self.fmu.setBoolean([self.vr[key]], [bool(val)])
 
     def outputs(self) -> np.ndarray:
-        """The Real outputs in :data:`OUTPUTS` order."""
+        """The Real outputs in the model description's order (the table's, :data:`OUTPUTS`)."""
         return np.array(self.fmu.getReal(self._vout))
 
     def status(self) -> int:
@@ -138,6 +150,7 @@ def slave_outputs(resources: Path, u: list[float], n: int, dt: float = 1e-3) -> 
     """The pythonfmu slave on a staged resources folder, in process: ``n`` steps of ``dt``
     with the inputs ``u`` held (:data:`INPUTS` order); the Real outputs of each step."""
     from fmu_src.runtime.slave import BrushTireSlave
+    from tire_brush.signals import INPUT_NAMES, OUTPUT_NAMES
 
     s = BrushTireSlave(instance_name="s", resources=str(resources))
     vr = {v.name: v.value_reference for v in s.vars.values()}
@@ -145,9 +158,9 @@ def slave_outputs(resources: Path, u: list[float], n: int, dt: float = 1e-3) -> 
     s.exit_initialization_mode()
     got = []
     for _ in range(n):
-        s.set_real([vr[k] for k in INPUTS], u)
+        s.set_real([vr[k] for k in INPUT_NAMES], u)
         assert s.do_step(0.0, dt), "do_step returned False (fmi2Discard)"
-        got.append(s.get_real([vr[k] for k in OUTPUTS]))
+        got.append(s.get_real([vr[k] for k in OUTPUT_NAMES]))
     return np.array(got)
 
 

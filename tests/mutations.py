@@ -270,7 +270,8 @@ def verify_imports(copy: Path) -> None:
 #: operation Python mirror (the tests pinning the two import the mirror).
 C_OWNERS = {"tire_brush/csrc/tirecore.c": ("tire_brush.element", "tire_brush.ccore"),
             "tire_brush/csrc/tirecore.h": ("tire_brush.element", "tire_brush.ccore"),
-            "fmu_src/runtime/native/fmu_wrapper.c": ("fmu_src.make.native_build",)}
+            **{f"fmu_src/runtime/native/{name}": ("fmu_src.make.native_build",)
+               for name in ("fmu_wrapper.c", "tfn_model.c", "tfn_files.c", "tfn_model.h")}}
 
 
 def modules_of(rel: str, root: Path = ROOT) -> list[str]:

@@ -17,6 +17,7 @@ from fmu_support import INPUTS, OUTPUTS, FmuDriver, braking_inputs, synthetic_gr
 
 from fmu_src.make.build import BuildOptions
 from fmu_src.make.native_build import (
+    C_SOURCES,
     MODEL_IDENTIFIER,
     TABLE_FILE,
     build_native_fmu,
@@ -86,8 +87,7 @@ def test_native_model_description_equals_pythonfmu_variables(fmu, tmp_path):
     assert b[3].get("modelIdentifier") == MODEL_IDENTIFIER
     assert b[3].get("needsExecutionTool") == "false"
     assert b[3].get("canGetAndSetFMUstate") == "true"
-    assert [f.get("name") for f in b[3].findall("SourceFiles/File")] == ["fmu_wrapper.c",
-                                                                         "tirecore.c"]
+    assert [f.get("name") for f in b[3].findall("SourceFiles/File")] == list(C_SOURCES)
 
 
 def test_table_resource_is_the_models_table(fmu):

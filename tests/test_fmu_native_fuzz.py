@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from fmu_support import synthetic_grid
 
-from fmu_src.make.native_build import MODEL_IDENTIFIER, build_native_fmu
+from fmu_src.make.native_build import C_SOURCES, MODEL_IDENTIFIER, build_native_fmu
 
 pytestmark = pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
 FUZZ = Path(__file__).with_name("native_fuzz.c")
@@ -63,8 +63,8 @@ def _sanitized(unz: Path, lib: Path) -> Path:
     """The FMU's wrapper and core compiled from its sources/ with ASan and UBSan."""
     src = unz / "sources"
     subprocess.run(["cc", "-std=c99", "-O1", "-g", *SANITIZERS, "-fPIC", "-shared", "-I",
-                    str(src), "-o", str(lib), str(src / "fmu_wrapper.c"),
-                    str(src / "tirecore.c"), "-lm"], check=True)
+                    str(src), "-o", str(lib), *(str(src / f) for f in C_SOURCES), "-lm"],
+                   check=True)
     return lib
 
 

@@ -14,8 +14,8 @@ command-line tools on macOS); the fallback compile uses ``$CC`` (e.g. ``clang``,
 cc``).
 
 Every floating-point operation of the core is mirrored by the readable reference
-:mod:`tire_brush.element`; the tests pin the two together. This module imports only numpy
-and the standard library: it runs inside an FMU.
+:mod:`tire_brush.element`; the tests pin the two together. This module imports only numpy,
+the standard library and :mod:`tire_brush.signals`: it runs inside an FMU.
 """
 
 from __future__ import annotations
@@ -35,17 +35,25 @@ import numpy as np
 
 from tirefric.errors import TirefricError
 
+from .signals import INPUT_NAMES, OUTPUT_NAMES
+
 #: Folder of the C sources.
 SOURCE_DIR = Path(__file__).with_name("csrc")
 #: C sources of the core, in link order.
 SOURCES = ("tirecore.c",)
-#: Compiler flags: C99, optimised, no contraction of multiply-adds (the Python reference
+#: Compiler flags of every build of the core (the package's install reads them from here,
+#: setup.py; the native FMU adds ``-shared``; benchmarks compiling the core use them too):
+#: C99, optimised, no contraction of multiply-adds and no fast-math (the Python reference
 #: rounds every product: the two must agree to the last bit).
-CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math", "-fPIC", "-shared")
-#: API and state version the binding expects (``TF_VERSION`` in ``tirecore.h``).
-API_VERSION = 3
-#: Outputs, element columns and steady columns (``tirecore.h``).
-N_IN, N_OUT, N_ELEM, STEADY_IN, STEADY_OUT = 8, 12, 7, 5, 8
+CORE_CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math")
+#: Flags of the shared library compiled here (:func:`compile_library`).
+CFLAGS = (*CORE_CFLAGS, "-fPIC", "-shared")
+#: Inputs and outputs of a step (``TF_NIN``, ``TF_NOUT``: the tire's signal table,
+#: :mod:`tire_brush.signals`), element columns (``TF_ELEM``), steady columns
+#: (``TF_STEADY_IN``, ``TF_STEADY_OUT``). tests/test_interface_table.py parses ``tirecore.h``
+#: and compares.
+N_IN, N_OUT = len(INPUT_NAMES), len(OUTPUT_NAMES)
+N_ELEM, STEADY_IN, STEADY_OUT = 7, 5, 8
 #: Work counters of a tire (``TF_NCOUNT``): sub-steps, stage solves, budget fallbacks.
 N_COUNT = 3
 

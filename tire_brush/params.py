@@ -23,6 +23,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from tirefric.errors import InputError, InputErrors
+from tirefric.units import si_unit
 
 
 def _check(obj: object, name: str, *, positive: bool = False, nonnegative: bool = False,
@@ -41,16 +42,17 @@ def _check(obj: object, name: str, *, positive: bool = False, nonnegative: bool 
         problems.append(InputError(f"must be <= {maximum:g}", field=where, value=x))
 
 
-def _param(unit: str | None, dimension: str | None, description: str, *,
+def _param(dimension: str | None, description: str, *,
            positive: bool = False, nonnegative: bool = False,
            maximum: float | None = None, toml_default: bool | None = None,
            default: float | None = None) -> object:
-    """A parameter field carrying, once, what every user of it needs: the FMU unit (``None``
-    for a boolean), the dimension of :data:`tirefric.config.UNITS` the TOML value is read in,
-    the description (FMU variable table, docs) and the bounds (validation, TOML loader).
-    ``default`` is the value when the class is built in code without it (a tire file must
-    still give it)."""
+    """A parameter field carrying, once, what every user of it needs: its dimension in
+    :mod:`tirefric.units` (``None`` for a boolean), from which the TOML value is read and the
+    FMU unit follows (:func:`tirefric.units.si_unit`), the description (FMU variable table,
+    docs) and the bounds (validation, TOML loader). ``default`` is the value when the class is
+    built in code without it (a tire file must still give it)."""
     extra = {} if default is None else {"default": default}
+    unit = None if dimension is None else si_unit(dimension)
     return field(**extra, metadata={
         "unit": unit, "dimension": dimension, "description": description,
         "bounds": {"positive": positive, "nonnegative": nonnegative, "maximum": maximum},
@@ -130,32 +132,32 @@ class PatchLaw:
     """
 
     R0: float = _param(
-        "m", "length", "Unloaded radius [m] (patch-size law, Pacejka 2012 eqs. (A3.7)-(A3.8))",
+        "length", "Unloaded radius [m] (patch-size law, Pacejka 2012 eqs. (A3.7)-(A3.8))",
         positive=True)
     width: float = _param(
-        "m", "length", "Nominal section width W [m] (patch-width law)", positive=True)
+        "length", "Nominal section width W [m] (patch-width law)", positive=True)
     C_z: float = _param(
-        "N/m", "stiffness", "Vertical stiffness [N/m] (deflection Fz / C_z of the patch laws)",
+        "stiffness", "Vertical stiffness [N/m] (deflection Fz / C_z of the patch laws)",
         positive=True)
     q_ra1: float = _param(
-        "1", "dimensionless", "Square-root coefficient of the patch-length law [1]", positive=True)
-    q_ra2: float = _param("1", "dimensionless", "Linear coefficient of the patch-length law [1]")
+        "dimensionless", "Square-root coefficient of the patch-length law [1]", positive=True)
+    q_ra2: float = _param("dimensionless", "Linear coefficient of the patch-length law [1]")
     q_rb1: float = _param(
-        "1", "dimensionless", "Cube-root coefficient of the patch-width law [1]", positive=True)
-    q_rb2: float = _param("1", "dimensionless", "Linear coefficient of the patch-width law [1]")
+        "dimensionless", "Cube-root coefficient of the patch-width law [1]", positive=True)
+    q_rb2: float = _param("dimensionless", "Linear coefficient of the patch-width law [1]")
     Fz_max: float = _param(
-        "N", "force", "Load [N] above which the patch keeps its size", positive=True)
+        "force", "Load [N] above which the patch keeps its size", positive=True)
     p_inflation: float = _param(
-        "Pa", "pressure", "Inflation pressure [Pa] (vertical stiffness and pressure shape)",
+        "pressure", "Inflation pressure [Pa] (vertical stiffness and pressure shape)",
         positive=True)
     p_nom: float = _param(
-        "Pa", "pressure", "Nominal inflation pressure [Pa] of C_z (MF 6.2 NOMPRES)",
+        "pressure", "Nominal inflation pressure [Pa] of C_z (MF 6.2 NOMPRES)",
         positive=True)
     p_fz1: float = _param(
-        "1", "dimensionless",
+        "dimensionless",
         "Pressure coefficient of the vertical stiffness [1] (MF 6.2 PFZ1)", nonnegative=True)
     end_zone: float = _param(
-        "1", "dimensionless", "Smallest share of the patch half-length over which the pressure "
+        "dimensionless", "Smallest share of the patch half-length over which the pressure "
         "falls to zero at each end [1] (1: parabolic pressure)", positive=True, maximum=1.0)
 
     def __post_init__(self) -> None:
@@ -222,25 +224,25 @@ class TreadParams:
     """
 
     k_x: float = _param(
-        "N/m3", "stiffness_per_area",
+        "stiffness_per_area",
         "Longitudinal tread shear stiffness per unit footprint area [N/m3]", positive=True)
     k_y: float = _param(
-        "N/m3", "stiffness_per_area",
+        "stiffness_per_area",
         "Lateral tread shear stiffness per unit footprint area [N/m3]", positive=True)
     mass: float = _param(
-        "kg/m2", "mass_per_area", "Tread element tip mass per unit footprint area [kg/m2]",
+        "mass_per_area", "Tread element tip mass per unit footprint area [kg/m2]",
         nonnegative=True)
     d_x: float = _param(
-        "N.s/m3", "damping_per_area", "Longitudinal tread damping per unit footprint area [N.s/m3]",
+        "damping_per_area", "Longitudinal tread damping per unit footprint area [N.s/m3]",
         nonnegative=True)
     d_y: float = _param(
-        "N.s/m3", "damping_per_area", "Lateral tread damping per unit footprint area [N.s/m3]",
+        "damping_per_area", "Lateral tread damping per unit footprint area [N.s/m3]",
         nonnegative=True)
     void_ratio: float = _param(
-        "1", "dimensionless", "Groove (void) fraction of the footprint [1]", nonnegative=True,
+        "dimensionless", "Groove (void) fraction of the footprint [1]", nonnegative=True,
         maximum=0.9)
     depth: float = _param(
-        "m", "length", "Groove (tread) depth [m]: the grooves hold void_ratio * depth of water "
+        "length", "Groove (tread) depth [m]: the grooves hold void_ratio * depth of water "
         "(hydroplaning)", nonnegative=True, default=8e-3)
 
     def __post_init__(self) -> None:
@@ -288,22 +290,22 @@ class CarcassParams:
         Camber reduction ``eps`` in [0, 1] [1]: 0 is the thin disk (Pacejka's brush).
     """
 
-    rigid: bool = _param(None, None, "Rigid carcass: no belt deflection", toml_default=False)
+    rigid: bool = _param(None, "Rigid carcass: no belt deflection", toml_default=False)
     k_x: float = _param(
-        "N/m", "stiffness", "Longitudinal belt (carcass) stiffness [N/m]", positive=True)
-    k_y: float = _param("N/m", "stiffness", "Lateral belt (carcass) stiffness [N/m]", positive=True)
+        "stiffness", "Longitudinal belt (carcass) stiffness [N/m]", positive=True)
+    k_y: float = _param("stiffness", "Lateral belt (carcass) stiffness [N/m]", positive=True)
     d_x: float = _param(
-        "N.s/m", "damping", "Longitudinal belt (carcass) damping [N.s/m]", nonnegative=True)
+        "damping", "Longitudinal belt (carcass) damping [N.s/m]", nonnegative=True)
     d_y: float = _param(
-        "N.s/m", "damping", "Lateral belt (carcass) damping [N.s/m]", nonnegative=True)
+        "damping", "Lateral belt (carcass) damping [N.s/m]", nonnegative=True)
     k_psi: float = _param(
-        "N.m/rad", "rotational_stiffness", "Yaw (twist) stiffness of the belt [N.m/rad]",
+        "rotational_stiffness", "Yaw (twist) stiffness of the belt [N.m/rad]",
         positive=True)
     d_psi: float = _param(
-        "N.m.s/rad", "rotational_damping", "Yaw (twist) damping of the belt [N.m.s/rad]",
+        "rotational_damping", "Yaw (twist) damping of the belt [N.m.s/rad]",
         nonnegative=True)
     camber_reduction: float = _param(
-        "1", "dimensionless", "Camber reduction eps: the base of the tread spins at "
+        "dimensionless", "Camber reduction eps: the base of the tread spins at "
         "-(1 - eps) omega sin(gamma) [1]", nonnegative=True, maximum=1.0, default=0.0)
 
     def __post_init__(self) -> None:
@@ -330,14 +332,14 @@ class ThermalParams:
     """
 
     enabled: bool = _param(
-        None, None, "Carry the lumped tread temperature (else T_tread = T_surface)")
+        None, "Carry the lumped tread temperature (else T_tread = T_surface)")
     heat_capacity: float = _param(
-        "J/K", "heat_capacity_total", "Heat capacity of the tread [J/K]", positive=True)
+        "heat_capacity_total", "Heat capacity of the tread [J/K]", positive=True)
     conductance: float = _param(
-        "W/K", "conductance", "Heat conductance from the tread to the surroundings [W/K]",
+        "conductance", "Heat conductance from the tread to the surroundings [W/K]",
         nonnegative=True)
     heat_fraction: float = _param(
-        "1", "dimensionless", "Fraction of the frictional heat entering the tread [1]",
+        "dimensionless", "Fraction of the frictional heat entering the tread [1]",
         nonnegative=True, maximum=1.0)
 
     def __post_init__(self) -> None:
@@ -372,10 +374,10 @@ class TireParams:
 
     name: str
     R_e: float = _param(
-        "m", "length", "Effective rolling radius [m]: the rolling speed is omega * R_e",
+        "length", "Effective rolling radius [m]: the rolling speed is omega * R_e",
         positive=True)
     Fz_nom: float = _param(
-        "N", "force", "Nominal load [N]: the tread elements are spaced on the patch at this load",
+        "force", "Nominal load [N]: the tread elements are spaced on the patch at this load",
         positive=True)
     patch: PatchLaw
     tread: TreadParams
@@ -402,14 +404,20 @@ class TireParams:
         """Parameters as a JSON-able dict (for provenance of results and FMU metadata)."""
         out: dict = {"name": self.name, "R_e_m": self.R_e, "Fz_nom_N": self.Fz_nom,
                      "source": self.source}
-        for group in ("patch", "tread", "carcass", "thermal"):
+        for group in GROUPS:
             g = getattr(self, group)
             out[group] = {f.name: getattr(g, f.name) for f in fields(g)}
         return out
 
 
+#: The parameter groups of :class:`TireParams`: field name (the tire file's table, the FMU
+#: variables' prefix ``tire.<group>.``) -> class.
+GROUPS: dict[str, type] = {"patch": PatchLaw, "tread": TreadParams, "carcass": CarcassParams,
+                           "thermal": ThermalParams}
+
+
 # -- TOML -------------------------------------------------------------------------------------
-# Units of every field come from the one unit table, tirefric.config.UNITS.
+# Units of every field come from its dimension in the one unit table, tirefric.units.
 
 
 def load_tire(name_or_path: str | Path) -> TireParams:
@@ -428,20 +436,18 @@ def load_tire(name_or_path: str | Path) -> TireParams:
     provenance = t.string("provenance", "")
     R_e, Fz_nom = (_read(t, f) for f in parameter_fields(TireParams))
     groups = {}
-    for name_, cls in (("patch", PatchLaw), ("tread", TreadParams), ("carcass", CarcassParams),
-                       ("thermal", ThermalParams)):
+    for name_, cls in GROUPS.items():
         tab = t.table(name_)
         groups[name_] = (tab, _build(tab, cls, **{f.name: _read(tab, f)
                                                   for f in parameter_fields(cls)}))
-    (g, patch), (r, tread), (c, carcass), (h, thermal) = groups.values()
-    for tab in (g, r, c, h):
+    for tab, _ in groups.values():
         tab.check_unknown()
     # [rolling_resistance] is read by tire_brush.rolling_resistance (its own parameters)
     t.check_unknown(extra_allowed=("rolling_resistance",))
     try:
-        return TireParams(name=name, R_e=R_e, Fz_nom=Fz_nom, patch=patch, tread=tread,
-                          carcass=carcass, thermal=thermal, description=description,
-                          provenance=provenance, source=str(path))
+        return TireParams(name=name, R_e=R_e, Fz_nom=Fz_nom,
+                          **{g: obj for g, (_, obj) in groups.items()},
+                          description=description, provenance=provenance, source=str(path))
     except InputError as exc:
         raise InputError(exc.message, source=path, field=exc.field, value=exc.value) from None
 
@@ -452,8 +458,7 @@ def field_table() -> dict[str, tuple[str | None, str]]:
     out: dict[str, tuple[str | None, str]] = {}
     for f in parameter_fields(TireParams):
         out[f.name] = (f.metadata["unit"], f.metadata["description"])
-    for group, cls in (("patch", PatchLaw), ("tread", TreadParams), ("carcass", CarcassParams),
-                       ("thermal", ThermalParams)):
+    for group, cls in GROUPS.items():
         for f in parameter_fields(cls):
             out[f"{group}.{f.name}"] = (f.metadata["unit"], f.metadata["description"])
     return out

@@ -13,7 +13,8 @@ regularisation, default ``v_floor = 0.1 m/s``), so standstill, creeping and reve
 finite values; when reversing, ``kappa`` keeps the sign of ``V_r - vx`` relative to the
 direction of travel.
 
-This module imports only numpy and the standard library: it runs inside an FMU.
+This module imports only numpy, the standard library and :mod:`tire_brush.signals`: it runs
+inside an FMU.
 """
 
 from __future__ import annotations
@@ -23,15 +24,13 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from . import signals
+
 #: Speed floor [m/s] of the reported slips (module docstring).
 V_FLOOR = 0.1
 
-#: Output names of the brush models, in order, with units.
-OUTPUT_UNITS: dict[str, str] = {
-    "Fx": "N", "Fy": "N", "Mz": "N.m", "kappa": "1", "alpha": "rad", "mu_eff": "1",
-    "mu_slide": "1", "sliding_fraction": "1", "dT_flash_max": "K", "T_tread": "K",
-    "Mx": "N.m", "My": "N.m",
-}
+#: Output names of the brush models, in order, with units (the tire's signal table).
+OUTPUT_UNITS = signals.OUTPUT_UNITS
 
 
 def velocities_from_slip(kappa: np.ndarray, alpha: np.ndarray,

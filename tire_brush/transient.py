@@ -58,6 +58,7 @@ from .element import N_ELEM, STATE_HEAD, STATE_VERSION, RefTable, RefTire, RefWe
 from .friction import BranchTable, FrictionModel, as_table
 from .hydroplaning import D_FULL
 from .params import TireParams
+from .signals import INPUT_NAMES
 from .slip import V_FLOOR, BrushOutputs
 
 #: Default number of elements on the patch at the nominal load.
@@ -69,8 +70,7 @@ DT_INTERNAL = 2.5e-4
 #: footprint pressure per sub-step; docs/tire-core.md).
 TOL = 1e-2
 #: Inputs of :meth:`TransientBrushTire.step`, in order, and the number types they accept.
-_INPUT_NAMES = ("dt", "vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma",
-                "water_depth")
+_INPUT_NAMES = ("dt", *INPUT_NAMES)
 #: Slice of the outputs in the state vector (docs/tire-core.md, "state").
 _OUT = slice(11, 11 + ccore.N_OUT)
 _NUMBER_TYPES = (int, float, np.floating, np.integer)

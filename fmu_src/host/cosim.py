@@ -67,7 +67,9 @@ from tire_brush.braking.quarter_car import QuarterCar
 from tire_brush.braking.quarter_car import rhs as quarter_car_rhs
 from tirefric.errors import ConvergenceError, InputError, TirefricError
 
-#: FMU inputs in the order they are set.
+#: The FMU inputs this straight-line quarter car drives, by name, in the order of its value
+#: lists (a selection, not the tire's input list: camber and water keep their start values,
+#: and an input added to the tire's table needs no change here).
 INPUT_NAMES = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale")
 #: FMU outputs read after every step.
 OUTPUT_NAMES = ("Fx", "kappa", "mu_eff", "sliding_fraction", "dT_flash_max", "T_tread")

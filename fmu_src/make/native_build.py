@@ -20,7 +20,9 @@ Contents of the FMU:
   :func:`table_bytes`, read by the wrapper at instantiation);
 * ``resources/tirefric-data/build.json``: what the FMU was built from (``tirefric fmu
   info``), as in the pythonfmu flavour (the grid's npz is left out: its nodes are the table);
-* ``sources/``: the wrapper, the core, the generated ``tfn_config.h`` and the FMI headers;
+* ``sources/``: the wrapper, the core, the generated ``tfn_config.h`` (this build's variables)
+  and ``tfn_interface.h`` (the interface table: inputs, outputs, status bits, guard
+  conditions) and the FMI headers;
 * ``documentation/host_example.c``: a minimal C host (dlopen, four tires, timing).
 
 The start values of every variable, the GUID and the mapping of the ``tire.*`` parameters onto
@@ -41,22 +43,24 @@ from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
 
-from fmu_src.runtime.interface import INPUTS, LIMITS, OUTPUTS, Variable, variables
+from fmu_src.runtime.interface import (
+    INPUT_NAMES,
+    INPUTS,
+    LIMITS,
+    OUTPUT_NAMES,
+    OUTPUTS,
+    Variable,
+    variables,
+)
 from fmu_src.runtime.slave import BUILD_FILE, DATA_DIR
 from fmu_src.runtime.table_file import table_bytes
 from tire_brush import ccore
 from tire_brush.friction import GridFriction, as_table
-from tire_brush.params import (
-    CarcassParams,
-    PatchLaw,
-    ThermalParams,
-    TireParams,
-    TreadParams,
-    parameter_fields,
-)
+from tire_brush.params import GROUPS, TireParams, parameter_fields
 from tire_brush.transient import TOL
 
 from .model_description import postprocess
+from .native_header import interface_header
 from .stage import (
     BuildError,
     BuildOptions,
@@ -78,14 +82,17 @@ TABLE_FILE = "tirefric-table.bin"
 ROLLING_TABLE_FILE = "tirefric-rolling.bin"
 #: Wet-branch resource (:func:`fmu_src.runtime.table_file.wet_bytes`; when the grid has one).
 WET_TABLE_FILE = "tirefric-wet.bin"
-#: Compiler flags (those of the core's own build: C99, no contraction, no fast-math, so the
-#: native FMU rounds as the Python model's core does).
-CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math", "-shared")
+#: Compiler flags: the core's own (:data:`tire_brush.ccore.CORE_CFLAGS`: C99, no contraction,
+#: no fast-math, so the native FMU rounds as the Python model's core does), as a shared library.
+CFLAGS = (*ccore.CORE_CFLAGS, "-shared")
 #: C files compiled into the binary (under ``sources/`` in the FMU).
-C_SOURCES = ("fmu_wrapper.c", "tirecore.c")
+C_SOURCES = ("fmu_wrapper.c", "tfn_model.c", "tfn_files.c", "tirecore.c")
+#: The wrapper's own files in :data:`NATIVE_DIR`: the FMI glue, the model callbacks, the
+#: resource readers and their internal header.
+WRAPPER_FILES = ("fmu_wrapper.c", "tfn_model.c", "tfn_files.c", "tfn_model.h")
 #: Headers shipped under ``sources/``.
-HEADERS = ("tirecore.h", "tfn_config.h", "fmi2Functions.h", "fmi2FunctionTypes.h",
-           "fmi2TypesPlatform.h")
+HEADERS = ("tirecore.h", "tfn_model.h", "tfn_config.h", "tfn_interface.h", "fmi2Functions.h",
+           "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
 
 # -- tfn_config.h ------------------------------------------------------------------------------
 def _c_string(s: str) -> str:
@@ -112,8 +119,7 @@ def _c_double(x: float) -> str:
 def _bounds() -> dict[str, dict[str, Any]]:
     """Bounds metadata of every tire parameter, by dotted path."""
     out = {f.name: f.metadata["bounds"] for f in parameter_fields(TireParams)}
-    for group, cls in (("patch", PatchLaw), ("tread", TreadParams), ("carcass", CarcassParams),
-                       ("thermal", ThermalParams)):
+    for group, cls in GROUPS.items():
         out |= {f"{group}.{f.name}": f.metadata["bounds"] for f in parameter_fields(cls)}
     return out
 
@@ -122,8 +128,7 @@ def _param_assignments(index: dict[str, int]) -> list[str]:
     """C statements filling ``tf_params`` from the values array ``v``: the numeric fields
     follow :func:`tire_brush.ccore.core_params` itself (run on value references instead of
     values), the two switches are mapped by name."""
-    groups: dict[str, dict[str, float]] = {g: {} for g in ("patch", "tread", "carcass",
-                                                           "thermal")}
+    groups: dict[str, dict[str, float]] = {g: {} for g in GROUPS}
     top: dict[str, float] = {}
     for name, vr in index.items():
         if not name.startswith("tire."):
@@ -162,8 +167,8 @@ def config_header(vars_: list[Variable], guid: str, rolling: bool = False,
     index = {v.name: i for i, v in enumerate(vars_)}
     n_in, n_out = len(INPUTS), len(OUTPUTS)
     names = [v.name for v in vars_]
-    if names[:n_in] != [n for n, *_ in INPUTS] or \
-            names[n_in:n_in + n_out] != [n for n, *_ in OUTPUTS] or \
+    if names[:n_in] != list(INPUT_NAMES) or \
+            names[n_in:n_in + n_out] != list(OUTPUT_NAMES) or \
             names[n_in + n_out] != "input_status":
         raise BuildError("the native wrapper expects inputs, outputs and input_status first")
     bounds = _bounds()
@@ -220,7 +225,7 @@ def config_header(vars_: list[Variable], guid: str, rolling: bool = False,
         "const char *str; int bounds; double maximum; } tfn_var;",
         *defines, "",
         "static const tfn_var TFN_VARS[TFN_NV] = {", *rows, "};", "",
-        "static void tfn_fill_params(const double *v, tf_params *P) {",
+        "static inline void tfn_fill_params(const double *v, tf_params *P) {",
         *_param_assignments(index), "}", "#endif", ""])
 
 
@@ -317,12 +322,14 @@ def compile_binary(sources: Path, platform: str, cc: list[str], out_dir: Path) -
 
 def stage_sources(directory: Path, vars_: list[Variable], guid: str,
                   rolling: bool = False, wet: bool = False) -> dict[str, bytes]:
-    """Write the C sources, the FMI headers and the generated ``tfn_config.h`` into
+    """Write the C sources, the FMI headers and the generated ``tfn_config.h`` and
+    ``tfn_interface.h`` (:mod:`fmu_src.make.native_header`) into
     ``directory``; returns them by name."""
-    files = {"fmu_wrapper.c": (NATIVE_DIR / "fmu_wrapper.c").read_bytes(),
-             "tirecore.c": (ccore.SOURCE_DIR / "tirecore.c").read_bytes(),
+    files = {name: (NATIVE_DIR / name).read_bytes() for name in WRAPPER_FILES}
+    files |= {"tirecore.c": (ccore.SOURCE_DIR / "tirecore.c").read_bytes(),
              "tirecore.h": (ccore.SOURCE_DIR / "tirecore.h").read_bytes(),
-             "tfn_config.h": config_header(vars_, guid, rolling, wet).encode()}
+             "tfn_config.h": config_header(vars_, guid, rolling, wet).encode(),
+             "tfn_interface.h": interface_header().encode()}
     for h in ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"):
         files[h] = (NATIVE_DIR / "fmi2" / h).read_bytes()
     directory.mkdir(parents=True, exist_ok=True)
@@ -381,8 +388,8 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
             wet = (stage / "resources" / DATA_DIR / build["wet"]["file"]).read_bytes()
         h = hashlib.sha256(b"tirefric-native-fmu\0" + build["build_id"].encode() + table
                            + rolling + wet)
-        for name in (*C_SOURCES, "tirecore.h"):
-            src = NATIVE_DIR / name if name == "fmu_wrapper.c" else ccore.SOURCE_DIR / name
+        for name in (*C_SOURCES, "tfn_model.h", "tirecore.h"):
+            src = NATIVE_DIR / name if name in WRAPPER_FILES else ccore.SOURCE_DIR / name
             h.update(name.encode() + b"\0" + src.read_bytes())
         h.update(" ".join(CFLAGS).encode())
         build_id = "sha256:" + h.hexdigest()

@@ -49,12 +49,26 @@ from __future__ import annotations
 import math
 from typing import Any, ClassVar
 
-from fmu_src.runtime.interface import MODEL_FLAGS, STATUS_BITS
+from fmu_src.runtime.interface import INPUT_NAMES, INPUTS, MODEL_FLAGS, STATUS_BITS
 
-#: Input names in the order the guard takes them.
-NAMES = ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma", "water_depth")
-#: Units of the inputs (for messages).
-_UNITS = ("m/s", "m/s", "rad/s", "N", "K", "", "rad", "m")
+#: Input names in the order the guard takes them (the tire's, :mod:`tire_brush.signals`).
+NAMES = INPUT_NAMES
+#: Units of the inputs (for messages; none for a dimensionless one).
+_UNITS = tuple("" if s.unit == "1" else s.unit for s in INPUTS)
+
+#: Every condition the guard can find, in a fixed order: (key, input it concerns). The key's
+#: part before ":" is its :data:`~fmu_src.runtime.interface.STATUS_BITS` name. The native FMU
+#: keeps one counter per condition in this order (its generated header
+#: ``tfn_interface.h``, and its serialized state): append new conditions at the end.
+CONDITIONS: tuple[tuple[str, str], ...] = (
+    *((f"nonfinite:{n}", n) for n in ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale")),
+    ("speed_clamped:vx", "vx"), ("speed_clamped:vy", "vy"), ("speed_clamped:omega", "omega"),
+    ("negative_load", "Fz"), ("load_clamped", "Fz"), ("temperature_clamped", "T_surface"),
+    ("mu_scale_clamped", "mu_scale"),
+    ("nonfinite:gamma", "gamma"), ("camber_clamped", "gamma"),
+    ("nonfinite:water_depth", "water_depth"), ("water_clamped", "water_depth"),
+    ("no_wet_branch", "water_depth"),
+)
 
 #: FMI status codes used for messages (fmi2OK, fmi2Warning).
 OK, WARNING = 0, 1

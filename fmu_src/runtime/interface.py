@@ -1,7 +1,10 @@
 """The FMU's interface as data: variables, units, start values and dependencies.
 
 One table describes every variable of the brush-tire FMU (name, causality, type, unit,
-description, start value); the slave (:mod:`fmu_src.runtime.slave`) registers its variables from it
+description, start value): the inputs and outputs are the tire's own
+(:mod:`tire_brush.signals`), the tire parameters are the fields of
+:class:`tire_brush.params.TireParams` with their metadata, and units are SI units of
+:mod:`tirefric.units`. The slave (:mod:`fmu_src.runtime.slave`) registers its variables from it
 and the build (:mod:`fmu_src.make.model_description`) writes units, unit definitions and the model
 structure from the same table, so the two cannot disagree.
 
@@ -27,41 +30,14 @@ from dataclasses import dataclass, fields
 from typing import Any
 
 from tire_brush.axes import BRUSH_AXES, SIGNS
-from tire_brush.params import (
-    CarcassParams,
-    PatchLaw,
-    ThermalParams,
-    TireParams,
-    TreadParams,
-    field_table,
-)
+from tire_brush.params import GROUPS, TireParams, field_table
+from tire_brush.signals import INPUT_NAMES as INPUT_NAMES
+from tire_brush.signals import INPUTS, OUTPUTS
+from tire_brush.signals import OUTPUT_NAMES as OUTPUT_NAMES
+from tirefric.units import base_units
 
 #: Model name and FMI model identifier (name of the binary inside the FMU).
 MODEL_NAME = "BrushTire"
-
-#: Unit definitions: name -> exponents of the SI base units (FMI 2.0 ``BaseUnit``; ``rad``
-#: counts as a base unit there).
-UNITS: dict[str, dict[str, int]] = {
-    "1": {},
-    "m": {"m": 1},
-    "s": {"s": 1},
-    "m/s": {"m": 1, "s": -1},
-    "rad": {"rad": 1},
-    "rad/s": {"rad": 1, "s": -1},
-    "N": {"kg": 1, "m": 1, "s": -2},
-    "N.m": {"kg": 1, "m": 2, "s": -2},
-    "N.m/rad": {"kg": 1, "m": 2, "s": -2, "rad": -1},
-    "N.m.s/rad": {"kg": 1, "m": 2, "s": -1, "rad": -1},
-    "Pa": {"kg": 1, "m": -1, "s": -2},
-    "K": {"K": 1},
-    "N/m": {"kg": 1, "s": -2},
-    "N.s/m": {"kg": 1, "s": -1},
-    "N/m3": {"kg": 1, "m": -2, "s": -2},
-    "N.s/m3": {"kg": 1, "m": -2, "s": -1},
-    "kg/m2": {"kg": 1, "m": -2},
-    "J/K": {"kg": 1, "m": 2, "s": -2, "K": -1},
-    "W/K": {"kg": 1, "m": 2, "s": -3, "K": -1},
-}
 
 #: Display units offered to tools: unit -> (name, factor, offset) with
 #: ``display = factor * value + offset`` (FMI 2.0 ``DisplayUnit``).
@@ -126,58 +102,11 @@ class Variable:
     relative: bool = False
 
 
-#: Inputs in order: name, unit, start (None: the tire's nominal load), description.
-INPUTS: tuple[tuple[str, str, float | None, str], ...] = (
-    ("vx", "m/s", 0.0, "Wheel-centre velocity in the wheel plane (longitudinal) [m/s]"),
-    ("vy", "m/s", 0.0, "Wheel-centre velocity lateral to the wheel plane [m/s] (along y of "
-                       "the axis system of parameter axes)"),
-    ("omega", "rad/s", 0.0, "Wheel spin [rad/s]; the rolling speed is omega * tire.R_e"),
-    ("Fz", "N", None, "Vertical load [N]; Fz <= 0 is lift-off (no forces)"),
-    ("T_surface", "K", 293.15,
-     "Background tread/road temperature [K] (friction tables' T0; the tread temperature "
-     "relaxes to it)"),
-    ("mu_scale", "1", 1.0, "Road friction scale [1], multiplies both friction branches"),
-    ("gamma", "rad", 0.0, "Inclination (camber) angle of the wheel plane [rad]: a rotation "
-                          "about x, top of the wheel to the right positive, the same sign in "
-                          "every axis system (docs/axes.md)"),
-    ("water_depth", "m", 0.0, "Water film depth on the road [m] (0 = dry), read through the "
-                              "wet branch of the FMU's grid, with dynamic hydroplaning"),
-)
-
-#: Outputs in order (the :class:`tire_brush.slip.BrushOutputs` fields): name, unit,
-#: description.
-OUTPUTS: tuple[tuple[str, str, str], ...] = (
-    ("Fx", "N", "Longitudinal force on the tire from the road [N] (braking: Fx < 0)"),
-    ("Fy", "N", "Lateral force on the tire from the road [N] (axis system of parameter axes)"),
-    ("Mz", "N.m", "Aligning moment about the vertical axis through the patch centre [N.m] "
-                  "(axis system of parameter axes)"),
-    ("kappa", "1", "Longitudinal slip [1] (reported, with the speed floor v_floor)"),
-    ("alpha", "rad", "Slip angle [rad] (reported, with the speed floor v_floor; sign of the "
-                     "axis system of parameter axes)"),
-    ("mu_eff", "1", "Utilised friction |F| / Fz [1] (0 without load)"),
-    ("mu_slide", "1",
-     "Pressure-weighted mean friction coefficient (eq. 28) of the sliding elements [1]"),
-    ("sliding_fraction", "1", "Share of the contact patch where the tread slides [1]"),
-    ("dT_flash_max", "K", "Largest flash-temperature rise in the contact patch [K]"),
-    ("T_tread", "K",
-     "Tread (background) temperature the friction is read at [K]; equals T_surface when "
-     "tire.thermal.enabled is false"),
-    ("Mx", "N.m", "Overturning moment about the x axis through the contact centre [N.m]: "
-                  "the load shifted sideways by the belt's lateral deflection (the same sign "
-                  "in every axis system)"),
-    ("My", "N.m", "Rolling resistance moment about the wheel axis [N.m], f_r Fz R_e against "
-                  "the spin (axis system of parameter axes: ISO-W My < 0 rolling forward); 0 "
-                  "when the FMU was built without a rolling-resistance table"),
-)
-
 #: Tire parameters (fields of TireParams): dotted field path -> (unit, description), read from
 #: the fields' metadata in tire_brush.params (one source of truth). Boolean fields have unit
 #: None.
 TIRE_FIELDS: dict[str, tuple[str | None, str]] = field_table()
 
-#: Parameter groups of TireParams and their classes.
-_GROUPS: dict[str, type] = {"patch": PatchLaw, "tread": TreadParams, "carcass": CarcassParams,
-                            "thermal": ThermalParams}
 #: TireParams fields that are text, not parameters.
 _TEXT_FIELDS = ("name", "description", "provenance", "source")
 
@@ -236,6 +165,21 @@ LIMITS: dict[str, tuple[str, str]] = {
                                "negative inputs are clamped (input_status bit 256)"),
 }
 
+def _units() -> dict[str, dict[str, int]]:
+    """Unit definitions of the FMU's variables: unit -> exponents of the SI base units (FMI
+    2.0 ``BaseUnit``), from the one unit table :mod:`tirefric.units`, in order of first use."""
+    used = [s.unit for s in (*INPUTS, *OUTPUTS)]
+    used += [u for u, _ in TIRE_FIELDS.values() if u is not None]
+    used += [u for _, u, _ in OPTIONS.values() if u is not None]
+    used += [u for u, _ in LIMITS.values()]
+    return {u: base_units(u) for u in dict.fromkeys(used)}
+
+
+#: Unit definitions: name -> exponents of the SI base units (FMI 2.0 ``BaseUnit``; ``rad``
+#: counts as a base unit there). Every unit of a variable is an SI unit of
+#: :data:`tirefric.units.SI_UNITS` in its FMI spelling (one vocabulary).
+UNITS: dict[str, dict[str, int]] = _units()
+
 #: Constant strings that name what the FMU was built from.
 INFO: dict[str, str] = {
     "info.tire": "Name of the tire parameter set the FMU was built with",
@@ -249,9 +193,7 @@ INITIAL_DEPENDENCIES: dict[str, tuple[str, ...]] = {
     "kappa": ("vx", "omega", "tire.R_e", "v_floor", "limit.v", "limit.omega"),
     "alpha": ("vx", "vy", "v_floor", "limit.v", "axes"),
     "T_tread": ("T_surface", "limit.T_min", "limit.T_max"),
-    "input_status": ("vx", "vy", "omega", "Fz", "T_surface", "mu_scale", "gamma",
-                     "water_depth", "limit.v", "limit.omega", "limit.Fz", "limit.T_min",
-                     "limit.T_max", "limit.mu_scale", "limit.gamma", "limit.water_depth"),
+    "input_status": (*INPUT_NAMES, *LIMITS),
 }
 
 
@@ -272,8 +214,8 @@ def tire_field_paths() -> list[str]:
     for f in fields(TireParams):
         if f.name in _TEXT_FIELDS:
             continue
-        if f.name in _GROUPS:
-            out += [f"{f.name}.{g.name}" for g in fields(_GROUPS[f.name])]
+        if f.name in GROUPS:
+            out += [f"{f.name}.{g.name}" for g in fields(GROUPS[f.name])]
         else:
             out.append(f.name)
     return out
@@ -311,7 +253,7 @@ def tire_from_parameters(name: str, parameters: dict[str, Any], *, description: 
     tirefric.errors.InputError
         A parameter is missing or out of range (the message names the field).
     """
-    groups: dict[str, dict[str, Any]] = {g: {} for g in _GROUPS}
+    groups: dict[str, dict[str, Any]] = {g: {} for g in GROUPS}
     top: dict[str, Any] = {}
     for path, value in parameters.items():
         head, _, rest = path.partition(".")
@@ -319,7 +261,7 @@ def tire_from_parameters(name: str, parameters: dict[str, Any], *, description: 
             groups[head][rest] = value
         else:
             top[head] = value
-    built = {g: cls(**groups[g]) for g, cls in _GROUPS.items()}
+    built = {g: cls(**groups[g]) for g, cls in GROUPS.items()}
     return TireParams(name=name, description=description, provenance=provenance, **top,
                       **built)
 
@@ -340,10 +282,10 @@ def variables(tire: dict[str, Any], options: dict[str, Any],
         Values of :data:`INFO`.
     """
     p = tire["parameters"]
-    out = [Variable(n, "input", "Real", u, d, p["Fz_nom"] if s is None else s)
-           for n, u, s, d in INPUTS]
-    out += [Variable(n, "output", "Real", u, d, relative=(n == "dT_flash_max"))
-            for n, u, d in OUTPUTS]
+    out = [Variable(s.name, "input", "Real", s.unit, s.description,
+                    p["Fz_nom"] if s.start is None else s.start) for s in INPUTS]
+    out += [Variable(s.name, "output", "Real", s.unit, s.description,
+                     relative=(s.dimension == "temperature_difference")) for s in OUTPUTS]
     bits = ", ".join(f"{b} {k}" for k, b in STATUS_BITS.items())
     out.append(Variable("input_status", "output", "Integer", None,
                         f"Sum of flags of the last step ({bits}); 0 = inputs used as given"))

@@ -63,10 +63,10 @@ try:
     from fmu_src.runtime import state as state_io
     from fmu_src.runtime.guard import InputGuard, ModelConditions
     from fmu_src.runtime.interface import (
-        INPUTS,
+        INPUT_NAMES,
         LIMITS,
         MODEL_NAME,
-        OUTPUTS,
+        OUTPUT_NAMES,
         STATUS_BITS,
         TIRE_FIELDS,
         Variable,
@@ -82,7 +82,7 @@ try:
     from tire_brush.transient import TransientBrushTire
 except ImportError as exc:      # numpy missing in the host's Python: say so at instantiation
     _MISSING: ImportError | None = exc
-    OUTPUTS = ()
+    OUTPUT_NAMES = ()
 else:
     _MISSING = None
 
@@ -109,7 +109,6 @@ MAX_SUBSTEPS = 100_000
 
 _CAUSALITY = {"input": Fmi2Causality.input, "output": Fmi2Causality.output,
               "parameter": Fmi2Causality.parameter, "local": Fmi2Causality.local}
-_OUTPUT_NAMES = tuple(n for n, _, _ in OUTPUTS)
 
 
 def _resource(data_dir: Path, spec: dict[str, Any], what: str) -> bytes | None:
@@ -210,7 +209,7 @@ class BrushTireSlave(Fmi2Slave):
         self._u_start = list(self._u)
         self._p: dict[str, Any] = {v.name: v.start for v in self._vars
                                    if v.causality == "parameter"}
-        self._out = BrushOutputs(*([0.0] * len(_OUTPUT_NAMES)))
+        self._out = BrushOutputs(*([0.0] * len(OUTPUT_NAMES)))
         self._status = 0
         self._model: TransientBrushTire | None = None
         self._guard: InputGuard | None = None
@@ -315,7 +314,7 @@ class BrushTireSlave(Fmi2Slave):
         self._initial_outputs(x)
         self._status = status | STATUS_BITS["model_reset"]
         self.log(f"doStep at t = {current_time:.6g} s: the tire model failed ({why}) with "
-                 f"inputs {dict(zip((n for n, *_ in INPUTS), x, strict=True))}; it was reset "
+                 f"inputs {dict(zip(INPUT_NAMES, x, strict=True))}; it was reset "
                  f"to an undeflected tire at rest (input_status bit 64)", Fmi2Status.error)
         return False
 
@@ -374,7 +373,7 @@ class BrushTireSlave(Fmi2Slave):
         model, guard = self._model, self._guard
         return {"format": STATE_FORMAT, "build_id": self._build["build_id"],
                 "inputs": list(self._u), "parameters": dict(self._p),
-                "outputs": [getattr(self._out, n) for n in _OUTPUT_NAMES],
+                "outputs": [getattr(self._out, n) for n in OUTPUT_NAMES],
                 "status": self._status,
                 "guard": None if guard is None else guard.get_state(),
                 "conditions": None if guard is None else self._conditions.get_state(),
