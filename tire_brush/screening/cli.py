@@ -45,7 +45,7 @@ def main(args: argparse.Namespace) -> int:
                      progress=not args.no_progress, keep_grids=args.keep_grids)
     rows = res.rows()
     print(f"screen {spec.name}: {len(rows)} compounds ({len(res.computed)} tasks computed, "
-          f"{len(res.reused)} reused), {res.wall_s:.1f} s on {res.workers} worker(s), "
+          f"{len(res.reused)} reused), {res.wall_s:.1f} s ({res.where}), "
           f"median {cost_per_compound(res):.1f} s per compound")
     print(f"  {'compound':<16s}{'G':>7s} cls{'RRC':>8s} cls{'dry ABS':>9s}{'wet ABS':>9s}  Pareto")
     for r in rows:

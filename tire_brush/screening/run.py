@@ -46,6 +46,7 @@ class ScreenResult:
     wall_s: float
     workers: int
     files: dict[str, str] = field(default_factory=dict)
+    where: str = ""
 
     @property
     def failed(self) -> list[dict[str, Any]]:
@@ -134,7 +135,7 @@ def run_screen(spec: ScreenSpec | str | Path, out: str | Path, *, workers: int =
     reference = done[jobs[-1][2]]
     result = ScreenResult(spec, out, records, reference, computed,
                           [k for _, _, k in jobs if k not in computed], wall,
-                          1 if scheduler is None and workers == 1 else workers)
+                          1 if scheduler is None and workers == 1 else workers, where=where)
     if write:
         result.files = write_outputs(result)
     return result
@@ -439,7 +440,7 @@ def write_report(result: ScreenResult, rows: list[dict[str, Any]], sens: dict[st
                          + " |")
     lines += ["", "## Cost", "",
               f"{len(result.computed)} tasks computed, {len(result.reused)} reused from "
-              f"earlier runs; wall {result.wall_s:.1f} s on {result.workers} worker(s); "
+              f"earlier runs; wall {result.wall_s:.1f} s ({result.where}); "
               f"median {cost_per_compound(result):.1f} s per compound.", ""]
     path.write_text("\n".join(lines), encoding="utf-8")
     return str(path)
