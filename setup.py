@@ -28,7 +28,8 @@ if sys.platform == "win32":
 else:
     cflags = core_cflags()
 
-setup(ext_modules=[Extension("tire_brush._tirecore", ["tire_brush/csrc/tirecore.c"],
+setup(ext_modules=[Extension("tire_brush._tirecore", ["tire_brush/csrc/tirecore.c",
+                                                     "tire_brush/csrc/tirert.c"],
                              define_macros=[("TF_PYTHON_EXTENSION", "1")],
                              extra_compile_args=cflags,
                              libraries=[] if sys.platform == "win32" else ["m"])])

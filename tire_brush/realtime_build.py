@@ -1,0 +1,136 @@
+"""Build-time side of the real-time fidelity: the steady patch response tabulated
+(:class:`tire_brush.realtime.PatchTable`) from the steady march of the full model
+(:meth:`tire_brush.steady.SteadyBrush.patch_response`, ``tf_steady``), so that the table follows
+the full model's physics whatever it becomes (docs/realtime.md)."""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from typing import Any
+
+import numpy as np
+
+from tirefric.errors import InputError
+
+from .friction import as_table
+from .realtime import (
+    AXIS_NAMES,
+    GAMMA_NODES,
+    LOAD_NODES,
+    N_VALUES,
+    RHO_NODES,
+    SPEED_NODES,
+    T_STEP,
+    THETA_NODES,
+    PatchTable,
+)
+from .steady import N_STEADY, TOL, SteadyBrush
+
+
+def default_axes(friction_T: np.ndarray) -> dict[str, np.ndarray]:
+    """Default axes for a friction table whose temperature axis is ``friction_T`` [K]: the
+    nodes above, and temperatures every :data:`T_STEP` over the friction's range (its ends
+    included)."""
+    lo, hi = float(friction_T[0]), float(friction_T[-1])
+    n = max(2, int(math.ceil((hi - lo) / T_STEP - 1e-9)) + 1)
+    return {"gamma": np.array(GAMMA_NODES), "T": np.linspace(lo, hi, n),
+            "Fz": np.array(LOAD_NODES), "log10_v": np.log10(SPEED_NODES),
+            "theta": np.array(THETA_NODES), "rho": np.array(RHO_NODES)}
+
+
+def table_key(params: Any, table: Any, axes: dict[str, np.ndarray], n_cells: int,
+              tol: float) -> str:
+    """Hash of what a patch table depends on: the tire parameters, the friction table's axes,
+    values and blend length, the axes and the march's settings."""
+    h = hashlib.sha256()
+    h.update(repr(params).encode())
+    for a in (table.log10_v, table.T, table.log10_p, table.values):
+        h.update(np.ascontiguousarray(a, float).tobytes())
+    h.update(repr(float(table.inv_s0)).encode())
+    for name in AXIS_NAMES:
+        h.update(np.ascontiguousarray(axes[name], float).tobytes())
+    h.update(repr((n_cells, tol)).encode())
+    return h.hexdigest()
+
+
+def _layer(args: tuple) -> np.ndarray:
+    """One (gamma, T) layer of the table (a worker's job): the march at every (Fz, v, theta,
+    rho) node with theta >= 0, or every theta when gamma > 0."""
+    params, friction, n_cells, tol, g, T, Fz_ax, lv_ax, th_ax, rho_ax = args
+    sb = SteadyBrush(params, friction, n_elements=n_cells, tol=tol, rigid_carcass=True)
+    F, LV, TH, RHO = np.meshgrid(Fz_ax, lv_ax, th_ax, rho_ax, indexing="ij")
+    vref = 10.0 ** LV
+    s = RHO * vref
+    Vr = vref - s
+    Vsx = s * np.cos(TH)
+    Vsy = s * np.sin(TH)
+    out = np.zeros(F.shape + (N_VALUES,))
+    todo = (RHO > 0.0) | (g > 0.0)
+    if g == 0.0:
+        todo &= TH >= 0.0
+    sel = np.flatnonzero(todo.ravel())
+    r = sb.patch_response(Vsx.ravel()[sel], Vsy.ravel()[sel], Vr.ravel()[sel],
+                          F.ravel()[sel], float(T), gamma=float(g))
+    Fx, Fy, Mz, _, mu_sl, frac, dT, _, P, Mb = r
+    th = TH.ravel()[sel]
+    c, sn = np.cos(th), np.sin(th)
+    Fzs = F.ravel()[sel]
+    vals = np.stack([-(Fx * c + Fy * sn) / Fzs, (-Fx * sn + Fy * c) / Fzs, Mz / Fzs, Mb / Fzs,
+                     mu_sl, frac, dT, P / (Fzs * vref.ravel()[sel])], axis=1)
+    flat = out.reshape(-1, N_VALUES)
+    flat[sel] = vals
+    if g == 0.0:
+        # (V_y, gamma) -> (-V_y, -gamma) mirrors the patch: Fx, mu_slide, sliding fraction,
+        # flash temperature and power are even, Fy and Mz odd; in the slip's frame the force
+        # along is even and the force across odd in theta, as is Mz
+        nth = th_ax.size
+        for j in range(nth):
+            if th_ax[j] < 0.0:
+                jm = int(np.argmin(np.abs(th_ax + th_ax[j])))
+                if abs(th_ax[jm] + th_ax[j]) > 1e-12:
+                    raise InputError("theta nodes must be symmetric about 0",
+                                     field="patch_table.theta", value=th_ax.tolist())
+                out[:, :, j] = out[:, :, jm]
+                out[:, :, j, :, 1:4] *= -1.0
+    return out
+
+
+def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None = None,
+                      n_cells: int | None = None, tol: float | None = None,
+                      processes: int = 1) -> PatchTable:
+    """Tabulate the steady patch response for the real-time fidelity (module docstring).
+
+    Parameters
+    ----------
+    params
+        :class:`~tire_brush.params.TireParams`.
+    friction
+        What :class:`~tire_brush.steady.SteadyBrush` takes (a grid, a branch table).
+    axes
+        Axes by :data:`AXIS_NAMES` (default :func:`default_axes`).
+    n_cells, tol
+        The march's settings (default those of :mod:`tire_brush.steady`).
+    processes
+        Worker processes (layers of (gamma, T) run in parallel).
+    """
+    table = as_table(friction)
+    n_cells = N_STEADY if n_cells is None else n_cells
+    tol = TOL if tol is None else tol
+    ax = default_axes(np.asarray(table.T, float))
+    if axes:
+        for k, v in axes.items():
+            if k not in AXIS_NAMES:
+                raise InputError(f"unknown axis (one of {AXIS_NAMES})", field="axes", value=k)
+            ax[k] = np.asarray(v, float)
+    jobs = [(params, table, n_cells, tol, float(g), float(T), ax["Fz"], ax["log10_v"],
+             ax["theta"], ax["rho"]) for g in ax["gamma"] for T in ax["T"]]
+    if processes > 1:
+        import multiprocessing as mp
+        with mp.get_context("fork").Pool(processes) as pool:
+            layers = pool.map(_layer, jobs, chunksize=1)
+    else:
+        layers = [_layer(j) for j in jobs]
+    vals = np.stack(layers).reshape((ax["gamma"].size, ax["T"].size) + layers[0].shape)
+    return PatchTable(ax["gamma"], ax["T"], ax["Fz"], ax["log10_v"], ax["theta"], ax["rho"],
+                      vals, key=table_key(params, table, ax, n_cells, tol))
