@@ -67,16 +67,16 @@ AXIS_NAMES: tuple[str, ...] = ("gamma", "T", "Fz", "log10_v", "theta", "rho")
 #: tan(alpha) / (1 + tan(alpha)) in cornering), the resolution measured in docs/realtime.md.
 RHO_NODES: tuple[float, ...] = (0.0, 0.005, 0.01, 0.018, 0.028, 0.04, 0.055, 0.075, 0.1, 0.13,
                                 0.17, 0.23, 0.32, 0.45, 0.65, 1.0)
-#: Default direction nodes [rad]: 15 degrees from pure lateral slip (-90) to pure lateral (90).
-THETA_NODES: tuple[float, ...] = tuple(math.radians(d) for d in range(-90, 91, 15))
+#: Default direction nodes [rad]: 22.5 degrees from pure lateral slip (-90) to pure lateral (90).
+THETA_NODES: tuple[float, ...] = tuple(math.radians(-90.0 + 22.5 * k) for k in range(9))
 #: Default speed nodes [m/s] of |V| + |V_r|; the first is also the speed floor of rho.
 SPEED_NODES: tuple[float, ...] = (1.0, 4.0, 10.0, 20.0, 35.0, 70.0)
 #: Default load nodes [N].
-LOAD_NODES: tuple[float, ...] = (1000.0, 2500.0, 4000.0, 6000.0, 10000.0)
+LOAD_NODES: tuple[float, ...] = (1000.0, 2000.0, 3000.0, 4500.0, 6500.0, 10000.0)
 #: Default inclination nodes [rad] (|gamma|; the table is mirrored for gamma < 0).
 GAMMA_NODES: tuple[float, ...] = (0.0, 0.1)
 #: Default spacing of the temperature nodes [K] over the friction grid's temperature range.
-T_STEP = 20.0
+T_STEP = 10.0
 
 
 @dataclass(frozen=True)
@@ -364,7 +364,26 @@ def rt_advance(p: Any, ev: PatchEval, s: Any, h: float, Vsx: float, Vsy: float, 
     vr = abs(V_r)
     if vr < ev.vmin:
         vr = ev.vmin
+    # the tread's lag: the transit of the adhesion zone, and at least the tip's own response
+    # time sqrt(m / k) (a sliding patch is still a tread of massive tips on springs in series
+    # with the belt: without it a falling friction would close an algebraic loop through the
+    # massless belt)
     tau = a * (1.0 - frac) / vr
+    kmax = p.k_x if p.k_x > p.k_y else p.k_y
+    tau_tip = math.sqrt(p.mass / kmax)
+    if tau < tau_tip:
+        tau = tau_tip
+    if not rigid:
+        # where the patch's force falls with its slip (J_xx or J_yy > 0: a falling friction),
+        # the loop patch -> massless belt -> patch is stable only while J < d_c + k_c tau; the
+        # lag is made long enough for twice the slope (the full model stick-slips there, its
+        # mean is what the table holds; docs/realtime.md)
+        t_x = (2.0 * J[0] - p.dc_x) / p.kc_x
+        t_y = (2.0 * J[3] - p.dc_y) / p.kc_y
+        if tau < t_x:
+            tau = t_x
+        if tau < t_y:
+            tau = t_y
     t_ = tau + h
     if rigid:
         iAx = iAy = 0.0

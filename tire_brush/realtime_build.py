@@ -7,6 +7,9 @@ from __future__ import annotations
 
 import hashlib
 import math
+import os
+import tempfile
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -134,3 +137,31 @@ def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None
     vals = np.stack(layers).reshape((ax["gamma"].size, ax["T"].size) + layers[0].shape)
     return PatchTable(ax["gamma"], ax["T"], ax["Fz"], ax["log10_v"], ax["theta"], ax["rho"],
                       vals, key=table_key(params, table, ax, n_cells, tol))
+
+
+def cache_dir() -> Path:
+    """Folder of cached patch tables (``$TIREFRIC_CACHE``, default ``~/.cache/tirefric``)."""
+    return Path(os.environ.get("TIREFRIC_CACHE", Path.home() / ".cache" / "tirefric"))
+
+
+def cached_patch_table(params: Any, friction: Any, *, processes: int = 2,
+                       directory: str | Path | None = None) -> tuple[PatchTable, Path]:
+    """:func:`build_patch_table` at the default axes and march settings, cached on disk by
+    :func:`table_key` (the tire parameters, the friction table, the axes and settings): a
+    table is built once per tire and grid. Returns the table and its file
+    (:meth:`~tire_brush.realtime.PatchTable.to_bytes`' format)."""
+    table = as_table(friction)
+    key = table_key(params, table, default_axes(np.asarray(table.T, float)), N_STEADY, TOL)
+    d = Path(directory) if directory is not None else cache_dir()
+    path = d / f"patch-{key[:24]}.bin"
+    if path.is_file():
+        try:
+            return PatchTable.from_bytes(path.read_bytes(), key=key), path
+        except InputError:
+            pass                                    # a damaged cache file: build again
+    pt = build_patch_table(params, table, processes=processes)
+    d.mkdir(parents=True, exist_ok=True)
+    with tempfile.NamedTemporaryFile(dir=d, delete=False, suffix=".tmp") as f:
+        f.write(pt.to_bytes())
+    os.replace(f.name, path)
+    return pt, path

@@ -225,7 +225,24 @@ void tf_rt_advance(const tf_params *p, const tf_patch *pt, tf_rt_state *s, doubl
     if (!(frac > 0.0)) frac = 0.0;
     double vr = fabs(V_r);
     if (vr < pt->vmin) vr = pt->vmin;
+    /* the tread's lag: the transit of the adhesion zone, and at least the tip's own response
+     * time sqrt(m / k) (a sliding patch is still a tread of massive tips on springs in series
+     * with the belt: without it a falling friction would close an algebraic loop through the
+     * massless belt) */
     double tau = a * (1.0 - frac) / vr;
+    double kmax = p->k_x > p->k_y ? p->k_x : p->k_y;
+    double tau_tip = sqrt(p->mass / kmax);
+    if (tau < tau_tip) tau = tau_tip;
+    if (!rigid) {
+        /* where the patch's force falls with its slip (J_xx or J_yy > 0: a falling friction),
+         * the loop patch -> massless belt -> patch is stable only while J < d_c + k_c tau; the
+         * lag is made long enough for twice the slope (the full model stick-slips there, its
+         * mean is what the table holds; docs/realtime.md) */
+        double t_x = (2.0 * J[0] - p->dc_x) / p->kc_x;
+        double t_y = (2.0 * J[3] - p->dc_y) / p->kc_y;
+        if (tau < t_x) tau = t_x;
+        if (tau < t_y) tau = t_y;
+    }
     double t_ = tau + h;
     double iAx = 0.0, iAy = 0.0, iB = 0.0, kcx = 0.0, kcy = 0.0, kps = 0.0;
     if (!rigid) {
