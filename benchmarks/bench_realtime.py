@@ -121,7 +121,7 @@ def relaxation_length(tire: TransientBrushTire, vx: float, Fz: float, T: float,
 
     def run(kap: float, al: float, t: float) -> list[float]:
         out = []
-        for _ in range(int(round(t / dt))):
+        for _ in range(round(t / dt)):
             out.append(tire.step_array(dt, vx, -vx * math.tan(al), vx * (1 + kap) / R, Fz,
                                        T)[which])
         return out
@@ -165,7 +165,7 @@ def lane_change(tp, grid, table, vx: float = 20.0, amp_deg: float = 4.0,
             tire = TransientBrushTire(tp, grid, patch=patch, thermal=True)
             tire.reset()
             y = []
-            n = int(round(2.0 / f / dt))
+            n = round(2.0 / f / dt)
             for k in range(n):
                 al = math.radians(amp_deg) * math.sin(2 * math.pi * f * (k + 0.5) * dt)
                 y.append(tire.step_array(dt, vx, -vx * math.tan(al), vx / tp.R_e, 4000.0,

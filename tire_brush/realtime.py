@@ -79,6 +79,15 @@ GAMMA_NODES: tuple[float, ...] = (0.0, 0.1)
 T_STEP = 10.0
 
 
+def fnv1a64(data: bytes) -> int:
+    """64-bit FNV-1a hash as the FMUs' resource files use it (``fnv1a`` of the native FMU's
+    tfn_files.c, :func:`fmu_src.runtime.table_file.fnv1a64`: the same offset basis)."""
+    h = 1469598103934665603
+    for byte in data:
+        h = ((h ^ byte) * 0x100000001B3) & 0xFFFFFFFFFFFFFFFF
+    return h
+
+
 @dataclass(frozen=True)
 class PatchTable:
     """The steady patch response tabulated for the real-time fidelity.
@@ -121,7 +130,7 @@ class PatchTable:
         if not (self.theta[0] >= -math.pi / 2 - 1e-12 and self.theta[-1] <= math.pi / 2 + 1e-12):
             raise InputError("must lie in [-pi/2, pi/2]", field="patch_table.theta",
                              value=self.theta.tolist())
-        shape = tuple(a.size for a in axes) + (N_VALUES,)
+        shape = (*tuple(a.size for a in axes), N_VALUES)
         if self.values.shape != shape or not np.all(np.isfinite(self.values)):
             raise InputError(f"must be finite with shape {shape}", field="patch_table.values",
                              value=self.values.shape)
@@ -131,29 +140,35 @@ class PatchTable:
         return (self.gamma, self.T, self.Fz, self.log10_v, self.theta, self.rho)
 
     def to_bytes(self) -> bytes:
-        """The table as the core reads it (:func:`from_bytes`; ``tf_patch_new``): magic, the
-        six axis lengths, the axes, the values, all little-endian doubles after the header."""
+        """The table as the FMUs read it (:meth:`from_bytes`; the native FMU's tfn_files.c):
+        the magic ``TIREFRIC-PATCH\\0\\0``, the six axis lengths (little-endian int32), the
+        axes and the values (little-endian doubles) and the FNV-1a 64 hash of all that
+        (little-endian uint64)."""
         head = b"TIREFRIC-PATCH\0\0" + struct.pack("<6i", *(a.size for a in self.axes()))
         body = b"".join(np.ascontiguousarray(a, "<f8").tobytes() for a in self.axes())
-        return head + body + np.ascontiguousarray(self.values, "<f8").tobytes()
+        data = head + body + np.ascontiguousarray(self.values, "<f8").tobytes()
+        return data + struct.pack("<Q", fnv1a64(data))
 
     @classmethod
-    def from_bytes(cls, data: bytes, key: str = "") -> PatchTable:
-        """Read :meth:`to_bytes`' format."""
+    def from_bytes(cls, data: bytes, key: str = "", *, verify: bool = True) -> PatchTable:
+        """Read :meth:`to_bytes`' format (``verify=False`` skips the checksum, which takes a
+        few seconds in Python: for a file whose sha256 was checked already)."""
         if len(data) < 40 or data[:16] != b"TIREFRIC-PATCH\0\0":
             raise InputError("not a patch table", field="patch_table", value=len(data))
         n = struct.unpack("<6i", data[16:40])
         if min(n) < 2:
             raise InputError("axis lengths must be >= 2", field="patch_table", value=n)
         total = sum(n) + int(np.prod(n)) * N_VALUES
-        if len(data) != 40 + 8 * total:
-            raise InputError("wrong size for its axes", field="patch_table", value=len(data))
-        arr = np.frombuffer(data, "<f8", offset=40).astype(float)
+        if len(data) != 48 + 8 * total or \
+                (verify and struct.unpack("<Q", data[-8:])[0] != fnv1a64(data[:-8])):
+            raise InputError("wrong size for its axes or checksum mismatch (corrupt file)",
+                             field="patch_table", value=len(data))
+        arr = np.frombuffer(data[:-8], "<f8", offset=40).astype(float)
         axes, off = [], 0
         for k in n:
             axes.append(arr[off:off + k].copy())
             off += k
-        vals = arr[off:].reshape(tuple(n) + (N_VALUES,)).copy()
+        vals = arr[off:].reshape((*tuple(n), N_VALUES)).copy()
         return cls(*axes, values=vals, key=key)
 
 
@@ -288,7 +303,7 @@ def evaluate(table: PatchTable, Vx: Any, Vy: Any, Vr: Any, Fz: Any, T: Any,
     [N, N m], ``mu_slide``, ``sliding_fraction``, ``dT_flash_max``, ``power`` [W]."""
     ev = PatchEval(table)
     arrs = np.broadcast_arrays(*(np.asarray(x, float) for x in (Vx, Vy, Vr, Fz, T, gamma)))
-    res = np.zeros(arrs[0].shape + (8,))
+    res = np.zeros((*arrs[0].shape, 8))
     for idx in np.ndindex(arrs[0].shape):
         F, _, ex, _ = ev(*(float(a[idx]) for a in arrs))
         res[idx] = F + ex

@@ -36,7 +36,7 @@ def default_axes(friction_T: np.ndarray) -> dict[str, np.ndarray]:
     nodes above, and temperatures every :data:`T_STEP` over the friction's range (its ends
     included)."""
     lo, hi = float(friction_T[0]), float(friction_T[-1])
-    n = max(2, int(math.ceil((hi - lo) / T_STEP - 1e-9)) + 1)
+    n = max(2, math.ceil((hi - lo) / T_STEP - 1e-9) + 1)
     return {"gamma": np.array(GAMMA_NODES), "T": np.linspace(lo, hi, n),
             "Fz": np.array(LOAD_NODES), "log10_v": np.log10(SPEED_NODES),
             "theta": np.array(THETA_NODES), "rho": np.array(RHO_NODES)}
@@ -68,7 +68,7 @@ def _layer(args: tuple) -> np.ndarray:
     Vr = vref - s
     Vsx = s * np.cos(TH)
     Vsy = s * np.sin(TH)
-    out = np.zeros(F.shape + (N_VALUES,))
+    out = np.zeros((*F.shape, N_VALUES))
     todo = (RHO > 0.0) | (g > 0.0)
     if g == 0.0:
         todo &= TH >= 0.0
@@ -134,7 +134,7 @@ def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None
             layers = pool.map(_layer, jobs, chunksize=1)
     else:
         layers = [_layer(j) for j in jobs]
-    vals = np.stack(layers).reshape((ax["gamma"].size, ax["T"].size) + layers[0].shape)
+    vals = np.stack(layers).reshape((ax["gamma"].size, ax["T"].size, *layers[0].shape))
     return PatchTable(ax["gamma"], ax["T"], ax["Fz"], ax["log10_v"], ax["theta"], ax["rho"],
                       vals, key=table_key(params, table, ax, n_cells, tol))
 
@@ -156,7 +156,7 @@ def cached_patch_table(params: Any, friction: Any, *, processes: int = 2,
     path = d / f"patch-{key[:24]}.bin"
     if path.is_file():
         try:
-            return PatchTable.from_bytes(path.read_bytes(), key=key), path
+            return PatchTable.from_bytes(path.read_bytes(), key=key, verify=False), path
         except InputError:
             pass                                    # a damaged cache file: build again
     pt = build_patch_table(params, table, processes=processes)
