@@ -42,8 +42,9 @@ TARGET_US, TARGET_RTF4 = 10.0, 25.0
 
 
 def c_host_times(fmu: Path, unzipdir: str, n_tires: int, steps: int, tmp: Path,
-                 h: float = DT) -> dict:
-    """Median doStep per tire [us] and real-time factor (1 ms per step) from the C host."""
+                 h: float = DT, fidelity: int | None = None) -> dict:
+    """Median doStep per tire [us] and real-time factor (1 ms per step) from the C host (at
+    the parameter ``fidelity`` given, else at its start value)."""
     import fmpy
 
     from fmu_src.make.native_build import MODEL_IDENTIFIER, NATIVE_DIR
@@ -55,9 +56,13 @@ def c_host_times(fmu: Path, unzipdir: str, n_tires: int, steps: int, tmp: Path,
                         str(NATIVE_DIR / "host_example.c"), "-ldl", "-lm"], check=True)
     guid = fmpy.read_model_description(str(fmu)).guid
     lib = Path(unzipdir) / "binaries" / "linux64" / f"{MODEL_IDENTIFIER}.so"
+    md = fmpy.read_model_description(str(fmu))
+    extra = [] if fidelity is None else [
+        str(next(v.valueReference for v in md.modelVariables if v.name == "fidelity")),
+        str(int(fidelity))]
     out = subprocess.run([str(exe), str(lib), (Path(unzipdir) / "resources").as_uri(), guid,
-                          str(steps), str(n_tires), repr(h)], check=True, capture_output=True,
-                         text=True).stdout.splitlines()[1].split()
+                          str(steps), str(n_tires), repr(h), *extra], check=True,
+                         capture_output=True, text=True).stdout.splitlines()[1].split()
     d = dict(zip(out[::2], map(float, out[1::2]), strict=True))
     return {"doStep_median_us": d["median_us"], "doStep_mean_us": d["mean_us"],
             "real_time_factor": d["rtf"]}

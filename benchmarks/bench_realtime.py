@@ -31,6 +31,7 @@ import argparse
 import json
 import math
 import shutil
+import struct
 import subprocess
 import sys
 import tempfile
@@ -203,28 +204,89 @@ def abs_stops(tp_name: str, grid_name: str, temps=(0.0, 20.0, 40.0)) -> list[dic
     return out
 
 
-def callgrind_per_step(table_path: Path | None, steps: int = 300) -> float | None:
-    """Instructions per 1 ms step of the core (benchmarks/core_step.c) under callgrind, at the
-    full fidelity (``table_path`` None) or the real-time one; None without valgrind."""
-    if not shutil.which("valgrind"):
-        return None
+def _core_step_input(model: TransientBrushTire, inputs: list[float], n_warm: int,
+                     n_steps: int, n_tires: int = 1) -> bytes:
+    """The input file of benchmarks/core_step.c (the format of bench_brush.py)."""
+    t = model.table
+    blob = struct.pack("3i", t.log10_v.size, t.T.size, t.log10_p.size)
+    for a in (t.log10_v, t.T, t.log10_p, t.values.reshape(-1), np.array([t.inv_s0])):
+        blob += np.ascontiguousarray(a, dtype=np.float64).tobytes()
+    blob += bytes(model._P)
+    blob += struct.pack("3i", n_warm, n_steps, n_tires)
+    return blob + np.array([*inputs, 1e-3], dtype=np.float64).tobytes()
+
+
+#: The cost's operating points: the 0 C braking case of docs/tire-core.md ("Cost") and a
+#: combined slip at 20 C (vx, vy, omega, Fz, T_surface, mu_scale, gamma, water_depth).
+COST_CASES = {"0 C braking, 27.8 m/s, kappa -0.06":
+              [27.8, 0.0, 27.8 * 0.94 / 0.310, 4000.0, 273.15, 1.0, 0.0, 0.0],
+              "20 C, 20 m/s, kappa -0.05, alpha 1 deg":
+              [20.0, -0.35, 19.0 / 0.310, 4000.0, 293.15, 1.0, 0.0, 0.0]}
+
+
+def core_costs(tp, grid, table_path: Path, steps: int = 300) -> list[dict]:
+    """Per 1 ms step of the core alone (benchmarks/core_step.c, one tire, thermal state on):
+    the median wall time [us] and, with valgrind, callgrind's instruction count (the
+    difference of two runs of ``steps`` and ``2 steps`` steps over ``steps``), both
+    fidelities."""
     from tire_brush import ccore
+
+    cc = shutil.which("cc") or shutil.which("gcc")
+    if cc is None:
+        return []
+    model = TransientBrushTire(tp, grid)
+    out = []
     with tempfile.TemporaryDirectory() as tmp:
         exe = Path(tmp) / "core_step"
-        subprocess.run([shutil.which("cc") or "gcc", *ccore.CORE_CFLAGS, "-I",
-                        str(ccore.SOURCE_DIR), "-o", str(exe), str(HERE / "core_step.c"),
+        subprocess.run([cc, *ccore.CORE_CFLAGS, "-I", str(ccore.SOURCE_DIR), "-o", str(exe),
+                        str(HERE / "core_step.c"),
                         *(str(ccore.SOURCE_DIR / s) for s in ccore.SOURCES), "-lm"],
                        check=True)
-        counts = []
-        for n in (steps, 2 * steps):
-            out = Path(tmp) / f"cg.{n}"
-            cmd = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", str(exe),
-                   str(n)] + ([str(table_path)] if table_path else [])
-            subprocess.run(cmd, check=True, capture_output=True)
-            txt = out.read_text()
-            counts.append(int(next(ln.split()[1] for ln in txt.splitlines()
-                                   if ln.startswith("summary:") or ln.startswith("totals:"))))
-        return (counts[1] - counts[0]) / steps
+        for case, u in COST_CASES.items():
+            for fid, extra in (("full", []), ("realtime", [str(table_path)])):
+                row = {"case": case, "fidelity": fid}
+                f = Path(tmp) / "in.bin"
+                f.write_bytes(_core_step_input(model, u, 200, 1000))
+                res = subprocess.run([str(exe), str(f), *extra], check=True,
+                                     capture_output=True, text=True).stdout.split()
+                row["median_us"] = float(res[0])
+                if shutil.which("valgrind"):
+                    counts = []
+                    for n in (steps, 2 * steps):
+                        f.write_bytes(_core_step_input(model, u, 0, n))
+                        cg = Path(tmp) / f"cg.{n}"
+                        subprocess.run(["valgrind", "--tool=callgrind",
+                                        f"--callgrind-out-file={cg}", str(exe), str(f),
+                                        *extra], check=True, capture_output=True)
+                        counts.append(int(next(ln.split()[1] for ln in
+                                               cg.read_text().splitlines()
+                                               if ln.startswith(("summary:", "totals:")))))
+                    row["instructions"] = (counts[1] - counts[0]) / steps
+                out.append(row)
+    return out
+
+
+def native_costs(tp_name: str, grid_name: str) -> dict:
+    """Median native doStep per 1 ms step of both fidelities of one FMU build through the C
+    host example (one and four tires), and the real-time factor of four."""
+    import fmpy
+
+    sys.path.insert(0, str(HERE))
+    from bench_fmu_native import c_host_times
+
+    from fmu_src.make.native_build import build_native_fmu
+    from fmu_src.make.stage import BuildOptions
+
+    out = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        fmu = Path(tmp) / "tire.fmu"
+        build_native_fmu(tp_name, grid_name, fmu, BuildOptions(fidelity="realtime"))
+        unz = fmpy.extract(str(fmu))
+        for fid in (0, 1):
+            for n in (1, 4):
+                out[f"{fid}_{n}"] = c_host_times(fmu, unz, n, 2000 if fid else 300,
+                                                 Path(tmp), fidelity=fid)
+    return out
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -276,11 +338,19 @@ def main(argv: list[str] | None = None) -> int:
                   f"real-time {r['distance_1']:.2f} m ({r['wall_s_1']:.1f} s): "
                   f"{100 * r['diff_rel']:+.2f} % (target 2 %)")
     if "cost" in sections:
-        cg = {"full": callgrind_per_step(None), "realtime": callgrind_per_step(path)}
-        res["callgrind"] = cg
-        if cg["full"] is not None:
-            print(f"\ncallgrind, core alone, instructions per 1 ms step (0 C braking case): "
-                  f"full {cg['full']:.0f}, real-time {cg['realtime']:.0f} (target 40000)")
+        res["core"] = core_costs(tp, grid, path)
+        print("\nthe core alone per 1 ms step (benchmarks/core_step.c; callgrind instructions, "
+              "target 40000 = 10 us)")
+        for r in res["core"]:
+            ins = f"{r['instructions']:10.0f}" if "instructions" in r else "  (no valgrind)"
+            print(f"  {r['case']:40s} {r['fidelity']:8s} {r['median_us']:9.2f} us {ins}")
+        res["native"] = native_costs(args.tire, args.grid)
+        print("\nnative FMU through the C host example, median doStep per tire per 1 ms step")
+        for fid in (0, 1):
+            one, four = res["native"][f"{fid}_1"], res["native"][f"{fid}_4"]
+            print(f"  fidelity {fid}: one tire {one['doStep_median_us']:8.2f} us, four tires "
+                  f"{four['doStep_median_us']:8.2f} us each, real-time factor of four "
+                  f"{four['real_time_factor']:.1f}")
     if args.json:
         print(json.dumps(res, indent=1, default=float))
     return 0

@@ -201,7 +201,7 @@ def _declare(lib: ctypes.CDLL) -> None:
         "tf_tire_set_wet": (ctypes.c_int, [vp, vp, ctypes.c_double]),
         "tf_steady": (ctypes.c_int, [pp, vp, ctypes.c_int, ctypes.c_int, dp, ctypes.c_double,
                                      ctypes.c_double, dp]),
-        "tf_patch_new": (vp, [ctypes.POINTER(ctypes.c_int), dp, dp]),
+        "tf_patch_new": (vp, [ctypes.POINTER(ctypes.c_int), dp, dp, dp, dp]),
         "tf_patch_free": (None, [vp]),
         "tf_patch_eval": (ctypes.c_int, [vp] + [ctypes.c_double] * 6 + [dp]),
         "tf_tire_set_patch": (ctypes.c_int, [vp, vp]),
@@ -337,7 +337,9 @@ class CorePatch:
         n = (ctypes.c_int * 6)(*(a.size for a in table.axes()))
         axes = np.ascontiguousarray(np.concatenate(table.axes()), dtype=float)
         vals = np.ascontiguousarray(table.values, dtype=float)
-        self.handle = self._lib.tf_patch_new(n, _ptr(axes), _ptr(vals))
+        q = np.ascontiguousarray(table.q, dtype=float)
+        f0 = np.ascontiguousarray(table.f0, dtype=float)
+        self.handle = self._lib.tf_patch_new(n, _ptr(axes), _ptr(q), _ptr(f0), _ptr(vals))
         if not self.handle:
             raise CoreError("the tire core refused the patch table")
         self._out = np.zeros(PATCH_NOUT)

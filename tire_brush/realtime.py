@@ -14,7 +14,11 @@ MF-Swift, FTire's real-time mode). This module is that reduced model of the same
   over the slip velocity the tread sees (polar: the slip share
   ``rho = |V| / (|V| + |V_r|)``, 0 rolling freely, 1 locked, and the direction
   ``theta = atan2(V_y, |V_x|)``), the speed ``|V| + |V_r|``, the load, the tread temperature
-  and the inclination. The forces are stored in the slip's own frame (along and across the
+  and the inclination. The slip share is read on the scale of the load's own full-sliding slip
+  (the similarity of the brush's force curves over the load, Pacejka 2012, ch. 3 and 4): the
+  axis is ``rho_n = rho / (rho + q (1 - rho))`` with ``q = 3 Fz / C`` (``C = 2 k_x b a^2`` the
+  brush's slip stiffness at the load: ``rho_n = 1/2`` where a brush of friction 1 slides
+  entirely), so the force peak sits at the same nodes whatever the load. The forces are stored in the slip's own frame (along and across the
   slip, over ``Fz``), which interpolates without the cosine's curvature.
 * **Transients come from the belt and the tread's transit.** The belt is the full model's:
   massless, springs ``k_c`` and dampers ``d_c`` to the rim in ``x`` and ``y`` and the yaw
@@ -63,10 +67,10 @@ N_VALUES = len(VALUE_NAMES)
 #: the value index innermost).
 AXIS_NAMES: tuple[str, ...] = ("gamma", "T", "Fz", "log10_v", "theta", "rho")
 
-#: Default slip-share nodes: dense below the force peak (rho = |kappa| in braking, about
-#: tan(alpha) / (1 + tan(alpha)) in cornering), the resolution measured in docs/realtime.md.
-RHO_NODES: tuple[float, ...] = (0.0, 0.005, 0.01, 0.018, 0.028, 0.04, 0.055, 0.075, 0.1, 0.13,
-                                0.17, 0.23, 0.32, 0.45, 0.65, 1.0)
+#: Default nodes of the normalised slip share ``rho_n`` (module docstring): dense up to and
+#: around the force peak (about rho_n = 1/3), the resolution measured in docs/realtime.md.
+RHO_NODES: tuple[float, ...] = (0.0, 0.04, 0.08, 0.12, 0.16, 0.2, 0.24, 0.28, 0.32, 0.36, 0.4,
+                                0.45, 0.5, 0.57, 0.65, 0.75, 0.87, 1.0)
 #: Default direction nodes [rad]: 22.5 degrees from pure lateral slip (-90) to pure lateral (90).
 THETA_NODES: tuple[float, ...] = tuple(math.radians(-90.0 + 22.5 * k) for k in range(9))
 #: Default speed nodes [m/s] of |V| + |V_r|; the first is also the speed floor of rho.
@@ -97,8 +101,16 @@ class PatchTable:
     gamma, T, Fz, log10_v, theta, rho : numpy.ndarray
         Strictly ascending axes: |inclination| [rad] (first node 0), tread temperature [K],
         load [N], log10 of ``|V| + |V_r|`` [m/s] (the first node's speed is the floor of the
-        slip share's denominator), slip direction [rad] in [-pi/2, pi/2], slip share [1] from
-        0 to 1.
+        slip share's denominator), slip direction [rad] in [-pi/2, pi/2], normalised slip
+        share ``rho_n`` [1] from 0 to 1 (module docstring).
+    q : numpy.ndarray
+        The slip share of full sliding ``3 Fz / C`` (< 1) at each load node [1]; linear in
+        the load between them.
+    f0 : numpy.ndarray
+        Shape ``(n_gamma, n_T, n_Fz, n_v, 2)``: the force at zero slip (the camber's) over
+        Fz, x and y [1]; the values' forces in the slip's frame are those of the force less
+        this one (a fixed vector, which the slip's frame would turn with the slip's
+        direction where the slip is tiny).
     values : numpy.ndarray
         Shape ``(n_gamma, n_T, n_Fz, n_v, n_theta, n_rho, N_VALUES)``, see
         :data:`VALUE_NAMES`.
@@ -112,6 +124,8 @@ class PatchTable:
     log10_v: np.ndarray
     theta: np.ndarray
     rho: np.ndarray
+    q: np.ndarray
+    f0: np.ndarray
     values: np.ndarray
     key: str = ""
     meta: dict = field(default_factory=dict, compare=False)
@@ -130,7 +144,13 @@ class PatchTable:
         if not (self.theta[0] >= -math.pi / 2 - 1e-12 and self.theta[-1] <= math.pi / 2 + 1e-12):
             raise InputError("must lie in [-pi/2, pi/2]", field="patch_table.theta",
                              value=self.theta.tolist())
-        shape = (*tuple(a.size for a in axes), N_VALUES)
+        if self.q.shape != self.Fz.shape or not np.all((self.q > 0) & (self.q < 1)):
+            raise InputError("must lie in (0, 1), one per load node", field="patch_table.q",
+                             value=np.asarray(self.q).tolist())
+        shape = (*(a.size for a in axes), N_VALUES)
+        if self.f0.shape != (*shape[:4], 2) or not np.all(np.isfinite(self.f0)):
+            raise InputError(f"must be finite with shape {(*shape[:4], 2)}",
+                             field="patch_table.f0", value=self.f0.shape)
         if self.values.shape != shape or not np.all(np.isfinite(self.values)):
             raise InputError(f"must be finite with shape {shape}", field="patch_table.values",
                              value=self.values.shape)
@@ -145,7 +165,8 @@ class PatchTable:
         axes and the values (little-endian doubles) and the FNV-1a 64 hash of all that
         (little-endian uint64)."""
         head = b"TIREFRIC-PATCH\0\0" + struct.pack("<6i", *(a.size for a in self.axes()))
-        body = b"".join(np.ascontiguousarray(a, "<f8").tobytes() for a in self.axes())
+        body = b"".join(np.ascontiguousarray(a, "<f8").tobytes() for a in (*self.axes(),
+                                                                             self.q, self.f0))
         data = head + body + np.ascontiguousarray(self.values, "<f8").tobytes()
         return data + struct.pack("<Q", fnv1a64(data))
 
@@ -158,7 +179,8 @@ class PatchTable:
         n = struct.unpack("<6i", data[16:40])
         if min(n) < 2:
             raise InputError("axis lengths must be >= 2", field="patch_table", value=n)
-        total = sum(n) + int(np.prod(n)) * N_VALUES
+        n0 = n[0] * n[1] * n[2] * n[3] * 2
+        total = sum(n) + n[2] + n0 + int(np.prod(n)) * N_VALUES
         if len(data) != 48 + 8 * total or \
                 (verify and struct.unpack("<Q", data[-8:])[0] != fnv1a64(data[:-8])):
             raise InputError("wrong size for its axes or checksum mismatch (corrupt file)",
@@ -168,8 +190,12 @@ class PatchTable:
         for k in n:
             axes.append(arr[off:off + k].copy())
             off += k
+        q = arr[off:off + n[2]].copy()
+        off += n[2]
+        f0 = arr[off:off + n0].reshape((*n[:4], 2)).copy()
+        off += n0
         vals = arr[off:].reshape((*tuple(n), N_VALUES)).copy()
-        return cls(*axes, values=vals, key=key)
+        return cls(*axes, q=q, f0=f0, values=vals, key=key)
 
 
 # ---------------------------------------------------------------------------- evaluation
@@ -206,7 +232,8 @@ class PatchEval:
         self.n = [len(a) for a in self.ax]
         self.val = table.values.ravel().tolist()
         self.vmin = math.pow(10.0, float(table.log10_v[0]))
-        self.rho1 = float(table.rho[1])
+        self.q = table.q.tolist()
+        self.f0 = table.f0.ravel().tolist()
 
     def __call__(self, Vx: float, Vy: float, Vr: float, Fz: float, T: float,
                  gamma: float) -> tuple[list[float], list[float], list[float], int]:
@@ -226,7 +253,12 @@ class PatchEval:
             ux, uy = ax_ / s, vy / s
         else:
             ux, uy = 1.0, 0.0
-        xs = (abs(gamma), T, Fz, math.log10(den), theta, rho)
+        iF, fF, _ = _locate(self.ax[2], Fz)
+        qs = self.q[iF] + fF * (self.q[iF + 1] - self.q[iF])
+        D = rho + qs * (1.0 - rho)
+        rn = rho / D
+        drho = drho * (qs / (D * D))
+        xs = (abs(gamma), T, Fz, math.log10(den), theta, rn)
         loc = [_locate(self.ax[k], xs[k]) for k in range(6)]
         flags = 2 if not (self.ax[1][0] <= T <= self.ax[1][-1]) else 0
         n = self.n
@@ -241,7 +273,10 @@ class PatchEval:
         base = 0
         for k in range(6):
             base += loc[k][0] * strides[k]
+        # the outer (gamma, T, Fz, v) cell's first node in the zero-slip force array
+        ob = ((loc[0][0] * n[1] + loc[1][0]) * n[2] + loc[2][0]) * n[3] + loc[3][0]
         # the 16 outer corners (gamma, T, Fz, v), each with its 2 x 2 (theta, rho) cell
+        g0x = g0y = 0.0
         for c in range(16):
             w = 1.0
             off = base
@@ -252,6 +287,9 @@ class PatchEval:
                 off += bit * strides[k]
             if w == 0.0:
                 continue
+            o0 = 2 * (ob + (off - base) // strides[3])
+            g0x += w * self.f0[o0]
+            g0y += w * self.f0[o0 + 1]
             ft, fr = loc[4][1], loc[5][1]
             p00 = off
             p01 = off + strides[5]
@@ -273,10 +311,12 @@ class PatchEval:
         fa, fc, mz, mb = acc[0], acc[1], acc[2], acc[3]
         # the force in the folded frame: -f_along along the slip, f_across across it
         nx, ny = -uy, ux
-        Fxf = Fz * (-fa * ux + fc * nx)
-        Fyf = Fz * (-fa * uy + fc * ny)
+        Fxf = Fz * (g0x + (-fa * ux + fc * nx))
+        Fyf = Fz * (g0y + (-fa * uy + fc * ny))
         # derivatives by the folded velocity (a, c) = (|Vx|, sg Vy)
-        se = s if s > 0.5 * self.rho1 * den else 0.5 * self.rho1 * den
+        r1 = self.ax[5][1]
+        s1 = 0.5 * ((r1 * qs) / (1.0 - r1 * (1.0 - qs))) * den
+        se = s if s > s1 else s1
         J = [0.0] * 8
         for j in range(2):
             sj = ux if j == 0 else uy

@@ -53,16 +53,19 @@ def table_key(params: Any, table: Any, axes: dict[str, np.ndarray], n_cells: int
     h.update(repr(float(table.inv_s0)).encode())
     for name in AXIS_NAMES:
         h.update(np.ascontiguousarray(axes[name], float).tobytes())
-    h.update(repr((n_cells, tol)).encode())
+    h.update(repr((n_cells, tol, "rho_n = rho / (rho + q (1 - rho))", "f0")).encode())
     return h.hexdigest()
 
 
-def _layer(args: tuple) -> np.ndarray:
+def _layer(args: tuple) -> tuple[np.ndarray, np.ndarray]:
     """One (gamma, T) layer of the table (a worker's job): the march at every (Fz, v, theta,
-    rho) node with theta >= 0, or every theta when gamma > 0."""
+    rho) node with theta >= 0, or every theta when gamma > 0; and the force at zero slip (of
+    the camber alone) at every (Fz, v), which the slip's-frame values leave out."""
     params, friction, n_cells, tol, g, T, Fz_ax, lv_ax, th_ax, rho_ax = args
     sb = SteadyBrush(params, friction, n_elements=n_cells, tol=tol, rigid_carcass=True)
-    F, LV, TH, RHO = np.meshgrid(Fz_ax, lv_ax, th_ax, rho_ax, indexing="ij")
+    F, LV, TH, RN = np.meshgrid(Fz_ax, lv_ax, th_ax, rho_ax, indexing="ij")
+    q = np.interp(F, Fz_ax, full_sliding_share(params, Fz_ax))
+    RHO = RN * q / (1.0 - RN * (1.0 - q))          # the inverse of rho_n (realtime.py)
     vref = 10.0 ** LV
     s = RHO * vref
     Vr = vref - s
@@ -76,6 +79,15 @@ def _layer(args: tuple) -> np.ndarray:
     r = sb.patch_response(Vsx.ravel()[sel], Vsy.ravel()[sel], Vr.ravel()[sel],
                           F.ravel()[sel], float(T), gamma=float(g))
     Fx, Fy, Mz, _, mu_sl, frac, dT, _, P, Mb = r
+    f0 = np.zeros((Fz_ax.size, lv_ax.size, 2))
+    if g > 0.0:
+        # zero slip: the camber's force, the same at every theta (rho = 0 rows)
+        full = np.zeros((*F.shape, 2))
+        full.reshape(-1, 2)[sel] = np.stack([Fx, Fy], axis=1)
+        f0 = full[:, :, 0, 0, :] / Fz_ax[:, None, None]
+        iF, iv = np.unravel_index(sel, F.shape)[:2]
+        Fx = Fx - f0[iF, iv, 0] * Fz_ax[iF]
+        Fy = Fy - f0[iF, iv, 1] * Fz_ax[iF]
     th = TH.ravel()[sel]
     c, sn = np.cos(th), np.sin(th)
     Fzs = F.ravel()[sel]
@@ -96,7 +108,21 @@ def _layer(args: tuple) -> np.ndarray:
                                      field="patch_table.theta", value=th_ax.tolist())
                 out[:, :, j] = out[:, :, jm]
                 out[:, :, j, :, 1:4] *= -1.0
-    return out
+    return out, f0
+
+
+def full_sliding_share(params: Any, Fz: Any) -> np.ndarray:
+    """The slip share ``q = 3 Fz / C`` at which a brush of friction 1 slides over the whole
+    patch (Pacejka 2012, ch. 3: the massless brush's full-sliding slip ``3 mu Fz / C``), with
+    its slip stiffness ``C = 2 k_x b a^2`` at the load (``a``, ``b`` of the patch law); at
+    most 0.9. The real-time table reads the slip share on this scale
+    (:mod:`tire_brush.realtime`)."""
+    out = []
+    for F in np.atleast_1d(np.asarray(Fz, float)).tolist():
+        a, b = params.patch.size(F)
+        C = 2.0 * params.tread.k_x * b * a * a
+        out.append(min(3.0 * F / C, 0.9) if C > 0 else 0.9)
+    return np.array(out)
 
 
 def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None = None,
@@ -134,9 +160,12 @@ def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None
             layers = pool.map(_layer, jobs, chunksize=1)
     else:
         layers = [_layer(j) for j in jobs]
-    vals = np.stack(layers).reshape((ax["gamma"].size, ax["T"].size, *layers[0].shape))
+    lead = (ax["gamma"].size, ax["T"].size)
+    vals = np.stack([v for v, _ in layers]).reshape((*lead, *layers[0][0].shape))
+    f0 = np.stack([f for _, f in layers]).reshape((*lead, *layers[0][1].shape))
     return PatchTable(ax["gamma"], ax["T"], ax["Fz"], ax["log10_v"], ax["theta"], ax["rho"],
-                      vals, key=table_key(params, table, ax, n_cells, tol))
+                      full_sliding_share(params, ax["Fz"]), f0, vals,
+                      key=table_key(params, table, ax, n_cells, tol))
 
 
 def cache_dir() -> Path:
@@ -144,14 +173,20 @@ def cache_dir() -> Path:
     return Path(os.environ.get("TIREFRIC_CACHE", Path.home() / ".cache" / "tirefric"))
 
 
-def cached_patch_table(params: Any, friction: Any, *, processes: int = 2,
+def cached_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None = None,
+                       processes: int = 2,
                        directory: str | Path | None = None) -> tuple[PatchTable, Path]:
-    """:func:`build_patch_table` at the default axes and march settings, cached on disk by
-    :func:`table_key` (the tire parameters, the friction table, the axes and settings): a
-    table is built once per tire and grid. Returns the table and its file
-    (:meth:`~tire_brush.realtime.PatchTable.to_bytes`' format)."""
+    """:func:`build_patch_table` at the default march settings (and the default axes, or those
+    of ``axes`` given), cached on disk by :func:`table_key` (the tire parameters, the friction
+    table, the axes and settings): a table is built once per tire, grid and axes. Returns the
+    table and its file (:meth:`~tire_brush.realtime.PatchTable.to_bytes`' format)."""
     table = as_table(friction)
-    key = table_key(params, table, default_axes(np.asarray(table.T, float)), N_STEADY, TOL)
+    ax = default_axes(np.asarray(table.T, float))
+    for k, v in (axes or {}).items():
+        if k not in AXIS_NAMES:
+            raise InputError(f"unknown axis (one of {AXIS_NAMES})", field="axes", value=k)
+        ax[k] = np.asarray(v, float)
+    key = table_key(params, table, ax, N_STEADY, TOL)
     d = Path(directory) if directory is not None else cache_dir()
     path = d / f"patch-{key[:24]}.bin"
     if path.is_file():
@@ -159,7 +194,7 @@ def cached_patch_table(params: Any, friction: Any, *, processes: int = 2,
             return PatchTable.from_bytes(path.read_bytes(), key=key, verify=False), path
         except InputError:
             pass                                    # a damaged cache file: build again
-    pt = build_patch_table(params, table, processes=processes)
+    pt = build_patch_table(params, table, axes=ax, processes=processes)
     d.mkdir(parents=True, exist_ok=True)
     with tempfile.NamedTemporaryFile(dir=d, delete=False, suffix=".tmp") as f:
         f.write(pt.to_bytes())

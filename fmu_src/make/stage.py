@@ -90,6 +90,9 @@ class BuildOptions:
         ``"full"``, or ``"realtime"``: the FMU also carries the real-time fidelity's patch
         table (:mod:`tire_brush.realtime`; built from the steady march of this tire on this
         grid, cached) and its parameter ``fidelity`` starts at 1 (docs/realtime.md).
+    realtime_axes : dict or None
+        Axes of the patch table by :data:`tire_brush.realtime.AXIS_NAMES` where they differ
+        from the defaults (coarser ones build faster and interpolate worse: docs/realtime.md).
     """
 
     n_elements: int = N_TRANSIENT
@@ -99,6 +102,7 @@ class BuildOptions:
     axes: int = 0
     texture_depth: float = 0.0
     fidelity: str = "full"
+    realtime_axes: dict | None = None
 
     def __post_init__(self) -> None:
         if self.fidelity not in FIDELITIES:
@@ -295,7 +299,8 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
     if wet_data:
         (data / WET_FILE).write_bytes(wet_data)
     s0 = float(grid.meta["s0_m"]) if options.s0 is None else float(options.s0)
-    patch_data, realtime = _patch_resource(tire, grid, s0, options.fidelity)
+    patch_data, realtime = _patch_resource(tire, grid, s0, options.fidelity,
+                                           options.realtime_axes)
     if patch_data:
         (data / PATCH_FILE).write_bytes(patch_data)
     tire_d = tire_to_dict(tire)
@@ -360,8 +365,8 @@ def _rolling_resource(tire: TireParams, grid: Any) -> tuple[bytes, dict[str, Any
                   "model": "tire_brush.rolling_resistance (docs/rolling.md)"}
 
 
-def _patch_resource(tire: TireParams, grid: Any, s0: float,
-                    fidelity: str) -> tuple[bytes, dict[str, Any]]:
+def _patch_resource(tire: TireParams, grid: Any, s0: float, fidelity: str,
+                    axes: dict | None = None) -> tuple[bytes, dict[str, Any]]:
     """The real-time fidelity's patch table file (empty bytes for a full-fidelity build) and
     its entry in build.json: built from the steady march of this tire on the grid's friction
     with the blend length ``s0`` (:func:`tire_brush.realtime_build.cached_patch_table`)."""
@@ -371,7 +376,7 @@ def _patch_resource(tire: TireParams, grid: Any, s0: float,
     from tire_brush.realtime_build import cached_patch_table
 
     t0 = time.perf_counter()
-    table, path = cached_patch_table(tire, as_table(GridFriction(grid, s0=s0)))
+    table, path = cached_patch_table(tire, as_table(GridFriction(grid, s0=s0)), axes=axes)
     data = path.read_bytes()
     return data, {"file": PATCH_FILE, "sha256": "sha256:" + hashlib.sha256(data).hexdigest(),
                   "key": table.key, "shape": list(table.values.shape),

@@ -16,12 +16,14 @@ struct tf_patch {
     double *ax[TF_PATCH_NAX];
     size_t stride[TF_PATCH_NAX];   /* in doubles, the value index innermost */
     double *val;
+    double *q;                     /* full-sliding slip share at the load nodes */
+    double *f0;                    /* force at zero slip over Fz, (gamma, T, Fz, v, 2) */
     double vmin;                   /* 10^(first speed node) [m/s] */
-    double rho1;                   /* first slip-share node above 0 */
 };
 
-tf_patch *tf_patch_new(const int *n, const double *axes, const double *values) {
-    if (!n || !axes || !values) return NULL;
+tf_patch *tf_patch_new(const int *n, const double *axes, const double *q, const double *f0,
+                       const double *values) {
+    if (!n || !axes || !q || !f0 || !values) return NULL;
     size_t nax = 0, nn = 1;
     for (int k = 0; k < TF_PATCH_NAX; k++) {
         if (n[k] < 2 || n[k] > 100000) return NULL;
@@ -40,17 +42,28 @@ tf_patch *tf_patch_new(const int *n, const double *axes, const double *values) {
         return NULL;
     for (size_t i = 0; i < nn * TF_PATCH_NV; i++)
         if (!isfinite(values[i])) return NULL;
+    for (int i = 0; i < n[2]; i++)
+        if (!(q[i] > 0.0 && q[i] < 1.0)) return NULL;
+    size_t n0 = (size_t)n[0] * n[1] * n[2] * n[3] * 2;
+    for (size_t i = 0; i < n0; i++)
+        if (!isfinite(f0[i])) return NULL;
     tf_patch *pt = calloc(1, sizeof *pt);
     if (!pt) return NULL;
     pt->ax[0] = malloc(sizeof(double) * nax);
     pt->val = malloc(sizeof(double) * nn * TF_PATCH_NV);
-    if (!pt->ax[0] || !pt->val) {
+    pt->q = malloc(sizeof(double) * (size_t)n[2]);
+    pt->f0 = malloc(sizeof(double) * n0);
+    if (!pt->ax[0] || !pt->val || !pt->q || !pt->f0) {
         free(pt->ax[0]);
         free(pt->val);
+        free(pt->q);
+        free(pt->f0);
         free(pt);
         return NULL;
     }
     memcpy(pt->ax[0], axes, sizeof(double) * nax);
+    memcpy(pt->q, q, sizeof(double) * (size_t)n[2]);
+    memcpy(pt->f0, f0, sizeof(double) * n0);
     memcpy(pt->val, values, sizeof(double) * nn * TF_PATCH_NV);
     for (int k = 0; k < TF_PATCH_NAX; k++) {
         pt->n[k] = n[k];
@@ -62,7 +75,6 @@ tf_patch *tf_patch_new(const int *n, const double *axes, const double *values) {
         st *= (size_t)n[k];
     }
     pt->vmin = pow(10.0, pt->ax[3][0]);
-    pt->rho1 = pt->ax[5][1];
     return pt;
 }
 
@@ -70,6 +82,8 @@ void tf_patch_free(tf_patch *pt) {
     if (!pt) return;
     free(pt->ax[0]);
     free(pt->val);
+    free(pt->q);
+    free(pt->f0);
     free(pt);
 }
 
@@ -104,9 +118,15 @@ int tf_patch_eval(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz
         ux = ax_ / s;
         uy = vy / s;
     }
-    double xs[TF_PATCH_NAX] = {fabs(gamma), T, Fz, log10(den), theta, rho};
     int li[TF_PATCH_NAX];
     double lf[TF_PATCH_NAX], linv[TF_PATCH_NAX];
+    /* the slip share on the load's own scale (tirert.h) */
+    locate_ax(pt->n[2], pt->ax[2], Fz, &li[2], &lf[2], &linv[2]);
+    double qs = pt->q[li[2]] + lf[2] * (pt->q[li[2] + 1] - pt->q[li[2]]);
+    double D = rho + qs * (1.0 - rho);
+    double rn = rho / D;
+    drho = drho * (qs / (D * D));
+    double xs[TF_PATCH_NAX] = {fabs(gamma), T, Fz, log10(den), theta, rn};
     for (int k = 0; k < TF_PATCH_NAX; k++)
         locate_ax(pt->n[k], pt->ax[k], xs[k], &li[k], &lf[k], &linv[k]);
     const double *Tax = pt->ax[1];
@@ -114,6 +134,9 @@ int tf_patch_eval(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz
     double acc[TF_PATCH_NV] = {0.0}, dr[4] = {0.0}, dth[4] = {0.0};
     size_t base = 0;
     for (int k = 0; k < TF_PATCH_NAX; k++) base += (size_t)li[k] * pt->stride[k];
+    /* the outer (gamma, T, Fz, v) cell's first node in the zero-slip force array */
+    size_t ob = (((size_t)li[0] * pt->n[1] + li[1]) * pt->n[2] + li[2]) * pt->n[3] + li[3];
+    double g0x = 0.0, g0y = 0.0;
     double ft = lf[4], fr = lf[5];
     /* the 16 outer corners (gamma, T, Fz, v), each with its 2 x 2 (theta, rho) cell */
     for (int c = 0; c < 16; c++) {
@@ -126,6 +149,9 @@ int tf_patch_eval(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz
             off += (size_t)bit * pt->stride[k];
         }
         if (w == 0.0) continue;
+        size_t o0 = 2 * (ob + (off - base) / pt->stride[3]);
+        g0x += w * pt->f0[o0];
+        g0y += w * pt->f0[o0 + 1];
         const double *v00 = pt->val + off, *v01 = v00 + pt->stride[5];
         const double *v10 = v00 + pt->stride[4], *v11 = v10 + pt->stride[5];
         for (int q = 0; q < TF_PATCH_NV; q++) {
@@ -146,11 +172,13 @@ int tf_patch_eval(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz
     double fa = acc[0], fc = acc[1], mz = acc[2], mb = acc[3];
     /* the force in the folded frame: -f_along along the slip, f_across across it */
     double nx = -uy, ny = ux;
-    double Fxf = Fz * (-fa * ux + fc * nx);
-    double Fyf = Fz * (-fa * uy + fc * ny);
+    double Fxf = Fz * (g0x + (-fa * ux + fc * nx));
+    double Fyf = Fz * (g0y + (-fa * uy + fc * ny));
     /* derivatives by the folded velocity (|Vx|, sg Vy); the turn of the slip's direction is
      * taken over at least half the first slip-share cell */
-    double se = s > 0.5 * pt->rho1 * den ? s : 0.5 * pt->rho1 * den;
+    double r1 = pt->ax[5][1];
+    double s1 = 0.5 * ((r1 * qs) / (1.0 - r1 * (1.0 - qs))) * den;
+    double se = s > s1 ? s : s1;
     double J[8];
     for (int j = 0; j < 2; j++) {
         double sj = j == 0 ? ux : uy;

@@ -203,7 +203,8 @@ int load_rolling(comp *c, const char *loc) {
 }
 
 /* The real-time fidelity's patch table (tire_brush.realtime.PatchTable.to_bytes): the magic,
- * six int32 axis lengths, the axes and the node values as doubles, an FNV-1a 64 trailer. */
+ * six int32 axis lengths, the axes, q at the load nodes, the zero-slip force and the node
+ * values as doubles, an FNV-1a 64 trailer. */
 int load_patch(comp *c, const char *loc) {
     char path[4200];
     if (!TFN_HAS_PATCH) return 0;
@@ -221,7 +222,9 @@ int load_patch(comp *c, const char *loc) {
         nax += d;
         nn *= d;
     }
-    ok = ok && nn < ((uint64_t)1 << 32) && n == 48 + 8 * (nax + TF_PATCH_NV * nn) &&
+    uint64_t n0 = (uint64_t)dims[0] * dims[1] * dims[2] * dims[3] * 2;
+    ok = ok && nn < ((uint64_t)1 << 32) &&
+         n == 48 + 8 * (nax + dims[2] + n0 + TF_PATCH_NV * nn) &&
          fnv1a(b, n - 8) == rd_u64(b + n - 8);
     if (!ok) {
         free(b);
@@ -230,12 +233,12 @@ int load_patch(comp *c, const char *loc) {
               (double)nn);
         return -1;
     }
-    size_t m = (size_t)(nax + TF_PATCH_NV * nn);
+    size_t m = (size_t)(nax + dims[2] + n0 + TF_PATCH_NV * nn);
     double *a = malloc(sizeof(double) * m);
     if (!a) { free(b); return -1; }
     for (size_t i = 0; i < m; i++) a[i] = rd_f64(b + 40 + 8 * i);
     free(b);
-    c->patch = tf_patch_new(dims, a, a + nax);
+    c->patch = tf_patch_new(dims, a, a + nax, a + nax + dims[2], a + nax + dims[2] + n0);
     free(a);
     if (!c->patch) {
         logf_(c, fmi2Error, "the tire core refused the real-time patch table %s", path);
