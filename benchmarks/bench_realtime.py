@@ -45,7 +45,7 @@ sys.path.insert(0, str(HERE.parent))
 
 from lookup.grid.store import load_grid  # noqa: E402
 from tire_brush.params import load_tire  # noqa: E402
-from tire_brush.realtime_build import cached_patch_table  # noqa: E402
+from tire_brush.realtime_build import cached_patch_table, settled  # noqa: E402
 from tire_brush.steady import SteadyBrush  # noqa: E402
 from tire_brush.transient import TransientBrushTire  # noqa: E402
 
@@ -64,23 +64,6 @@ def slip_points() -> list[tuple[float, float]]:
     return pts + [(k, math.radians(a)) for k, a in COMBINED]
 
 
-def settle(tire: TransientBrushTire, vx: float, kappa: float, alpha: float, Fz: float,
-           T: float, dt: float = 1e-3, distance: float = 6.0, tail: int = 50) -> np.ndarray:
-    """Hold the slip until the tire has rolled ``distance`` [m] (>= 0.3 s) and return the
-    mean of the last ``tail`` steps' Fx, Fy, Mz."""
-    tire.reset()
-    R = tire.params.R_e
-    omega = vx * (1.0 + kappa) / R
-    vy = -vx * math.tan(alpha)
-    n = max(int(0.3 / dt), int(distance / (vx * dt)))
-    acc = []
-    for k in range(n):
-        o = tire.step_array(dt, vx, vy, omega, Fz, T)
-        if k >= n - tail:
-            acc.append(o[:3])
-    return np.mean(acc, axis=0)
-
-
 def steady_sweep(tp, grid, table, temps=TEMPS, speeds=SPEEDS, loads=LOADS,
                  points=None) -> dict:
     """The steady agreement (module docstring): per case the full and real-time Fx, Fy, Mz."""
@@ -96,11 +79,11 @@ def steady_sweep(tp, grid, table, temps=TEMPS, speeds=SPEEDS, loads=LOADS,
                 st = full.solve(k, a, vx, Fz, T + C0)
                 mz_peak = float(np.max(np.abs(st.Mz)))
                 for i, (kap, al) in enumerate(points):
-                    r = settle(rt, vx, kap, al, Fz, T + C0)
+                    r = settled(rt, kap, al, vx, Fz, T + C0)[:3]
                     rows.append({"T": T, "vx": vx, "Fz": Fz, "kappa": kap,
                                  "alpha_deg": math.degrees(al),
                                  "full": [float(st.Fx[i]), float(st.Fy[i]), float(st.Mz[i])],
-                                 "rt": r.tolist(), "mz_peak": mz_peak})
+                                 "rt": r, "mz_peak": mz_peak})
     ex = np.array([(r["rt"][0] - r["full"][0]) / r["Fz"] for r in rows])
     ey = np.array([(r["rt"][1] - r["full"][1]) / r["Fz"] for r in rows])
     em = np.array([(r["rt"][2] - r["full"][2]) / max(r["mz_peak"], 1e-9) for r in rows])

@@ -18,8 +18,10 @@ MF-Swift, FTire's real-time mode). This module is that reduced model of the same
   (the similarity of the brush's force curves over the load, Pacejka 2012, ch. 3 and 4): the
   axis is ``rho_n = rho / (rho + q (1 - rho))`` with ``q = 3 Fz / C`` (``C = 2 k_x b a^2`` the
   brush's slip stiffness at the load: ``rho_n = 1/2`` where a brush of friction 1 slides
-  entirely), so the force peak sits at the same nodes whatever the load. The forces are stored in the slip's own frame (along and across the
-  slip, over ``Fz``), which interpolates without the cosine's curvature.
+  entirely), so the force peak sits at the same nodes whatever the load. The forces are
+  stored in the slip's own frame (along and across the slip, over ``Fz``), which
+  interpolates without the cosine's curvature, less the force at zero slip (the camber's,
+  a fixed vector kept apart).
 * **Transients come from the belt and the tread's transit.** The belt is the full model's:
   massless, springs ``k_c`` and dampers ``d_c`` to the rim in ``x`` and ``y`` and the yaw
   (twist) spring ``k_psi`` with damper ``d_psi`` (Pacejka 2012, sec. 3.3), loaded by the

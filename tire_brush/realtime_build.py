@@ -200,3 +200,40 @@ def cached_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | Non
         f.write(pt.to_bytes())
     os.replace(f.name, path)
     return pt, path
+
+
+def settled(tire: Any, kappa: float, alpha: float, vx: float, Fz: float, T: float, *,
+            gamma: float = 0.0, dt: float = 1e-3, distance: float = 6.0,
+            tail: int = 50) -> list[float]:
+    """The outputs of a transient tire (either fidelity) held at slip ``kappa``, slip angle
+    ``alpha`` [rad], speed ``vx`` [m/s], load ``Fz`` [N], temperature ``T`` [K] and
+    inclination ``gamma`` [rad] from rest until it has rolled ``distance`` [m] (at least 0.3
+    s): the mean of the last ``tail`` steps' outputs (:data:`tire_brush.signals.OUTPUTS`)."""
+    tire.reset()
+    R = tire.params.R_e
+    omega = vx * (1.0 + kappa) / R
+    vy = -vx * math.tan(alpha)
+    n = max(int(0.3 / dt), int(distance / (vx * dt)), tail)
+    acc = []
+    for k in range(n):
+        o = tire.step_array(dt, vx, vy, omega, Fz, T, 1.0, gamma)
+        if k >= n - tail:
+            acc.append(o)
+    return np.mean(acc, axis=0).tolist()
+
+
+def realtime_curve(params: Any, friction: Any, kappa: Any, alpha: Any, vx: float, Fz: float,
+                   T: float) -> dict[str, np.ndarray]:
+    """The steady state of the real-time fidelity (thermal state off, as the steady model)
+    at each (kappa, alpha) [1, rad]: the tire held until settled (:func:`settled`) on the
+    cached patch table of this tire and friction; outputs by name."""
+    from .signals import OUTPUT_NAMES
+    from .transient import TransientBrushTire
+
+    table, _ = cached_patch_table(params, friction)
+    tire = TransientBrushTire(params, friction, patch=table, thermal=False)
+    k, a = np.broadcast_arrays(np.asarray(kappa, float), np.asarray(alpha, float))
+    rows = [settled(tire, float(x), float(y), vx, Fz, T) for x, y in zip(k.ravel(), a.ravel(),
+                                                                        strict=True)]
+    arr = np.array(rows).reshape((*k.shape, len(OUTPUT_NAMES)))
+    return {n: arr[..., i] for i, n in enumerate(OUTPUT_NAMES)}
