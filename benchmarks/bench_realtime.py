@@ -163,24 +163,32 @@ def lane_change(tp, grid, table, vx: float = 20.0, amp_deg: float = 4.0,
 
 
 def abs_stops(tp_name: str, grid_name: str, temps=(0.0, 20.0, 40.0)) -> list[dict]:
-    """Rule-based ABS stops of the quarter car through the native FMU at both fidelities."""
-    from fmu_src.host.abs_cli import default_abs_setup
+    """The shipped ABS study's quarter car (models/studies/abs_default.toml: car, ABS
+    thresholds, v0, v_stop, initial brake torque; the slip thresholds fixed, not from a slip
+    map) stopped through the native FMU at both fidelities of one build, at 0 / 20 / 40 C,
+    the tread temperature carried by the FMU."""
     from fmu_src.host.cosim import CosimSettings, simulate_braking_fmu
     from fmu_src.make.native_build import build_native_fmu
+    from fmu_src.make.stage import BuildOptions
+    from tire_brush.braking.abs_control import RuleBasedABS
+    from tire_brush.braking.study import load_study
 
+    spec = load_study("abs_default")
+    car = spec.car
     out = []
     with tempfile.TemporaryDirectory() as tmp:
         fmu = Path(tmp) / "tire.fmu"
-        build_native_fmu(tp_name, grid_name, fmu, realtime=True)
+        build_native_fmu(tp_name, grid_name, fmu, BuildOptions(fidelity="realtime"))
         for T in temps:
             row = {"T": T}
             for fid in (0, 1):
-                car, ctrl, v0 = default_abs_setup(tp_name, grid_name, T + C0)
-                s = CosimSettings(parameters={"fidelity": fid},
-                                  thermal=car.thermal)
+                ctrl = RuleBasedABS(spec.abs_params, car.radius, car.brake_torque_rate_max)
+                s = CosimSettings(parameters={"fidelity": fid})
                 t0 = time.perf_counter()
-                res = simulate_braking_fmu(fmu, car, ctrl, v0, T + C0, settings=s)
-                row[f"distance_{fid}"] = float(res.distance)
+                res = simulate_braking_fmu(fmu, car, ctrl, spec.v0, T + C0,
+                                           v_stop=spec.v_stop, settings=s,
+                                           brake_torque_initial=spec.brake_torque_initial)
+                row[f"distance_{fid}"] = float(res.stopping_distance)
                 row[f"wall_s_{fid}"] = time.perf_counter() - t0
             row["diff_rel"] = row["distance_1"] / row["distance_0"] - 1.0
             out.append(row)

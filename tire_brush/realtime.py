@@ -29,10 +29,13 @@ MF-Swift, FTire's real-time mode). This module is that reduced model of the same
   yaw turns the lateral slip by ``-V_r psi``. The tread carries deflection through the patch:
   a change of slip reaches the adhering elements only as new ones enter. Its lag is that of
   the adhesion zone: the patch's slip velocity ``V_p`` follows the belt's ``V_b`` with the
-  relaxation length ``a (1 - sliding_fraction)`` (the brush's linear response to a step of
-  slip rises with the initial slope ``1/a`` of rolled distance, and a sliding element carries
-  no memory), which with the carcass gives the relaxation lengths ``a + C_F / k_c`` of
-  models/tires/passenger.toml.
+  relaxation length ``(2a/3) (1 - sliding_fraction)`` (a sliding element carries
+  no memory). The length is the mean delay of the brush's linear response: a step of slip
+  reaches an element that has rolled ``x`` into the patch as ``min(x, s)`` after the tire has
+  rolled ``s``, so the force rises as ``s/a - s^2/4a^2`` up to ``s = 2a``, whose delay
+  ``integral (1 - F/F_inf) ds`` is ``2a/3`` whatever the pressure along the patch; a
+  first-order lag of the same delay keeps the sum of delays of tread and carcass in series,
+  and so the relaxation length of the whole (measured in docs/realtime.md).
 * **Integration.** Fixed sub-steps no longer than ``dt_internal`` of linearly implicit Euler
   on belt, yaw and patch slip together (the patch's forces linearised about the sub-step's
   start with the table's own derivatives): L-stable for the linear relaxation however stiff
@@ -421,11 +424,12 @@ def rt_advance(p: Any, ev: PatchEval, s: Any, h: float, Vsx: float, Vsy: float, 
     vr = abs(V_r)
     if vr < ev.vmin:
         vr = ev.vmin
-    # the tread's lag: the transit of the adhesion zone, and at least the tip's own response
+    # the tread's lag: the transit of the adhesion zone (the mean delay 2a/3 of the brush's
+    # linear response to a step of slip, module docstring), and at least the tip's own response
     # time sqrt(m / k) (a sliding patch is still a tread of massive tips on springs in series
     # with the belt: without it a falling friction would close an algebraic loop through the
     # massless belt)
-    tau = a * (1.0 - frac) / vr
+    tau = ((2.0 / 3.0) * a) * (1.0 - frac) / vr
     kmax = p.k_x if p.k_x > p.k_y else p.k_y
     tau_tip = math.sqrt(p.mass / kmax)
     if tau < tau_tip:

@@ -253,11 +253,12 @@ void tf_rt_advance(const tf_params *p, const tf_patch *pt, tf_rt_state *s, doubl
     if (!(frac > 0.0)) frac = 0.0;
     double vr = fabs(V_r);
     if (vr < pt->vmin) vr = pt->vmin;
-    /* the tread's lag: the transit of the adhesion zone, and at least the tip's own response
+    /* the tread's lag: the transit of the adhesion zone (the mean delay 2a/3 of the brush's
+     * linear response to a step of slip, docs/realtime.md), and at least the tip's own response
      * time sqrt(m / k) (a sliding patch is still a tread of massive tips on springs in series
      * with the belt: without it a falling friction would close an algebraic loop through the
      * massless belt) */
-    double tau = a * (1.0 - frac) / vr;
+    double tau = ((2.0 / 3.0) * a) * (1.0 - frac) / vr;
     double kmax = p->k_x > p->k_y ? p->k_x : p->k_y;
     double tau_tip = sqrt(p->mass / kmax);
     if (tau < tau_tip) tau = tau_tip;
