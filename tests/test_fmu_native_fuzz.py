@@ -104,9 +104,9 @@ def rt_fmu_dir(tmp_path_factory):
     reference road's grid: its parameter fidelity starts at 1, so the fuzz steps the real-time
     fidelity through water, camber and My."""
     import fmpy
+    from test_realtime import SMALL_AXES
 
     from fmu_src.make.stage import BuildOptions
-    from test_realtime import SMALL_AXES
 
     d = tmp_path_factory.mktemp("native_fuzz_rt")
     axes = dict(SMALL_AXES, T=[253.15, 293.15, 333.15])

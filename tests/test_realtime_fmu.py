@@ -97,8 +97,11 @@ def test_pythonfmu_refusals_are_logged():
         stage_resources(load_tire("passenger"), synthetic_grid(), Path(d), BuildOptions(**OPTS))
         for bad, msg in (({"fidelity": 3}, "must be 0"), ({"tire.tread.k_x": 8e7}, "k_x")):
             s = BrushTireSlave(instance_name="s", resources=d)
-            logs = []
-            s.log = lambda m, *a, **k: logs.append(m)
+            logs: list[str] = []
+
+            def log(m, *a, _logs=logs, **k):
+                _logs.append(m)
+            s.log = log
             vr = {v.name: v.value_reference for v in s.vars.values()}
             s.enter_initialization_mode()
             for key, val in bad.items():
