@@ -1,4 +1,4 @@
-"""Build of the compiled tire core (tire_brush/csrc/tirecore.c) at install.
+"""Build of the compiled tire core (tire_brush/csrc/tirecore.c, tirert.c) at install.
 
 The core is a plain C99 library loaded with ctypes (tire_brush/ccore.py); setuptools builds
 it as an extension file so that a wheel carries it for its platform. All other metadata is in
