@@ -95,6 +95,19 @@ def test_table_nodes_are_the_steady_march(setup):
                         assert abs(ex[3] - r[8]) < 1e-12 * max(1.0, abs(r[8]))
 
 
+def test_vectorised_evaluation_is_the_evaluator(setup, rng):
+    from tire_brush.realtime import evaluate
+    _, _, table = setup
+    pts = np.array(_random_points(rng, 20))
+    res = evaluate(table, *pts.T)
+    ev = PatchEval(table)
+    for i, x in enumerate(pts.tolist()):
+        F, _, ex, _ = ev(*x)
+        assert [res[k][i] for k in ("Fx", "Fy", "Mz", "M_belt")] == F
+        assert [res[k][i] for k in ("mu_slide", "sliding_fraction", "dT_flash_max",
+                                    "power")] == ex
+
+
 def test_mirror_images(setup, rng):
     """x-velocity reversed: Fx flips, Fy and Mz stay; lateral velocity and camber reversed:
     Fy and Mz flip (the brush's symmetries, exact in the table by construction)."""
