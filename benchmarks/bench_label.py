@@ -5,7 +5,7 @@ docs/physics.md sec. 7a):
 
 * rolling resistance at the ISO 28580 conditions: RRC [N/kN] and class, its change per K over
   20-30 C, the load exponent (F_r ~ Fz^alpha, 0.5-1.2 x the load-index load) and the pressure
-  exponent (F_r ~ p^beta, 180-250 kPa), and f_r over speed;
+  exponent (F_r ~ p^beta, 210-250 kPa), and f_r over speed;
 * wet friction against speed: the locked wheel's Fx/Fz at 20, 60 and 100 km/h on the wet
   reference road (and dry), at 5, 20 and 35 C, and the ratio mu(100)/mu(20), next to the
   PIARC speed constant of the road's texture (Sp = 14.2 + 89.7 MPD km/h, ASTM E1960);

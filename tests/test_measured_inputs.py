@@ -28,7 +28,10 @@ from tirefric.cli import main
 from tirefric.errors import ExtrapolationWarning, InputError
 from tirefric.paths import models_dir
 
-SUMMER = (models_dir() / "compounds" / "summer.toml").read_text()
+# the shipped summer compound as text; its relative data paths (the softening table,
+# data/filled_tread_softening.csv) made absolute, so that the copies written to tmp_path load
+SUMMER = (models_dir() / "compounds" / "summer.toml").read_text().replace(
+    'file = "data/', f'file = "{(models_dir() / "compounds" / "data").as_posix()}/')
 REF = Prony.lognormal(5e6, 1e9, 1e-6, 2.0)  # the "measured" compound
 W = np.logspace(-4, 12, 129)  # rad/s, 8 points per decade
 ER, EI = REF.storage_loss(W)

@@ -545,20 +545,25 @@ def test_overturning_qsx3_exact(fit) -> None:
 def test_rolling_resistance_within_reported_error(fit) -> None:
     """QSY1, QSY3, QSY7 against tire_brush.rolling_resistance at the fit temperature (the
     grid's compound): the file's My (eq. (4.E70)) matches My = -f_r Fz R_e as reported; the
-    error is the MF's linear speed law against the model's concave one (measured 0.033 % of
-    R0 Fz RMS, 21 % of My at most, at 5 m/s, where the model's f_r falls towards its creep
-    value; docs/mf-fit.md)."""
+    error is the MF's linear speed law and separable load power against the model's curves
+    (measured 0.014 % of R0 Fz RMS, 3.2 % of My at most; docs/mf-fit.md). The speed term
+    QSY3 has the sign of the model's own trend over the fitted speeds: at 20 C the summer
+    tread's loss falls slowly with the frequency and the sidewall carcass's is flat, so f_r
+    falls slightly with the speed (QSY3 < 0; on the previous synthetic tread it rose)."""
     from lookup.compound import load_compound
     from tire_brush.rolling_resistance import rolling_resistance
 
     c = coefficients(fit["sections"])
     rr = fit["result"]["rolling"]
     assert rr["fitted"] == ["QSY1", "QSY3", "QSY7"] and rr["compound"] == "summer"
-    assert c["QSY1"] > 0 and c["QSY3"] > 0, "ISO-W: My < 0 rolling forward, growing with V"
+    assert c["QSY1"] > 0, "ISO-W: My < 0 rolling forward"
     V, F = (x.ravel() for x in np.meshgrid(rr["speeds_m_s"], rr["loads_N"]))
     model = rolling_resistance(load_tire("passenger"), load_compound("summer"), V, F,
                                T_C + 273.15)
     assert (model.My < 0).all()
+    # the least-squares speed slope of the model's f_r, all loads pooled: QSY3's sign
+    slope = np.polyfit(V, model.f_r, 1)[0]
+    assert np.sign(c["QSY3"]) == np.sign(slope), (c["QSY3"], slope)
     v_ref = fit["sections"]["MODEL"]["LONGVL"]
     my = np.array([my_point(c, f, v, v_ref) for f, v in zip(F, V, strict=True)])
     rel = np.abs(my - model.My) / (c["UNLOADED_RADIUS"] * F)
@@ -568,6 +573,6 @@ def test_rolling_resistance_within_reported_error(fit) -> None:
     c["QSY7"] = 0.0          # mutation: My proportional to the load
     my0 = np.array([my_point(c, f, v, v_ref) for f, v in zip(F, V, strict=True)])
     rel0 = np.abs(my0 - model.My) / (c["UNLOADED_RADIUS"] * F)
-    # QSY7 (0.118: the model's f_r grows slowly with the load) matters: without it the RMS
-    # error grows 1.5-fold
+    # QSY7 (0.083: the model's f_r grows slowly with the load) matters: without it the RMS
+    # error grows 2.5-fold (1.5-fold on the previous synthetic tread)
     assert float(np.sqrt(np.mean(rel0**2))) > 1.3 * rr["errors"]["rms"]

@@ -274,7 +274,8 @@ def test_wet_grid_at_or_below_dry_everywhere(r117):
         assert np.all(m["mu_wet_cold"] <= mu_dry * (1 + 1e-6)), t
     # the hot branch is not bounded by dry node by node (test_wet_grid_branch: the sealed
     # spectrum makes less hysteresis heat, and the adhesive law is read at another flash
-    # temperature); measured on this grid: at most 5 % above, and below dry on average
+    # temperature): 5 % allows for the 1.7 % of the previous synthetic compound's grid;
+    # measured on this one: at most dry to float32 rounding, 0.89 of it on average
     hot = w.variables["mu_wet_hot_w1"][i] / g.variables["mu_hot"]
     assert hot.max() <= 1.05 and hot.mean() < 1.0, (hot.max(), hot.mean())
 
@@ -386,8 +387,12 @@ def test_sealing_lowers_the_viscoelastic_term_as_in_the_papers(r117):
     # Measured here (20 C, 0.2-0.3 MPa, 0.01-1 m/s): 0.69-0.71 with the shipped settings; the
     # construction's stated uncertainty (percolation threshold 0.35-0.5: 0.61-0.75,
     # docs/physics.md sec. 7a) sets the band 0.6-0.8. With the adhesive term off (soapy water)
-    # the total is that ratio; with water the shipped compound's low-speed friction is 98 %
-    # adhesive and squeezed dry, so the total stays within 1 % of dry at 0.01 m/s.
+    # the total is that ratio. With water the adhesive term is the dry one weighted by the
+    # dry share w of the real contact (both squeeze-outs; the real contact area is the dry
+    # P(q1)), so the total is share w + (1 - share) x ratio with the adhesive share of the dry
+    # friction. At 0.01 m/s both squeeze-outs are complete (w > 0.999) and the shipped summer
+    # compound's friction is 90 % adhesive there: the total falls by 3 %, not by the ratio.
+    # (On the previous synthetic compound, 98 % adhesive, it fell by 0.6 %.)
     dry, _, _ = r117
     v = np.array([0.01, 0.1, 1.0])
     soap = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3),
@@ -400,14 +405,24 @@ def test_sealing_lowers_the_viscoelastic_term_as_in_the_papers(r117):
         assert np.all((ratio > 0.6) & (ratio < 0.8)), (p, ratio)
         w = wet.cold(v, 293.15, p)
         np.testing.assert_allclose(w.mu_visc, s.mu_visc, rtol=1e-12)
-        assert d.mu_cont[0] / d.mu[0] > 0.95 and w.mu[0] / d.mu[0] > 0.99, (p, w.mu, d.mu)
+        share = d.mu_cont / d.mu
+        # the decomposition is exact (same sigma_f, same real contact area): 1e-12
+        np.testing.assert_allclose(w.mu / d.mu, share * wet.last_w + (1 - share) * ratio,
+                                   rtol=1e-12)
+        assert wet.last_w[0] > 0.999, wet.last_w
+        assert w.mu[0] / d.mu[0] == pytest.approx(share[0] + (1 - share[0]) * ratio[0],
+                                                  rel=1e-3), (p, w.mu, d.mu)
+        assert w.mu[0] < d.mu[0], "water lowers the total at low speed"
 
 
 def test_temperature_signs_of_the_two_terms(r117):
-    # why dBFC/dT > 0 on the shipped compound (docs/physics.md sec. 7a): at an ABS slip speed
-    # (1 m/s, 0.2 MPa, wet, cold) the viscoelastic term falls with temperature (the sign of the
-    # regulation's correction) while the adhesive term, eq. (21) shifted with the bulk a_T
-    # towards the slip speed and multiplied by a growing real contact, rises and dominates
+    # the two terms' signs at an ABS slip speed (1 m/s, 0.2 MPa, wet, cold; docs/physics.md
+    # sec. 7a): the viscoelastic term falls with temperature (the sign of the regulation's
+    # correction) while the adhesive term, eq. (21) shifted with the bulk a_T towards the
+    # slip speed and multiplied by a growing real contact, rises and dominates even after the
+    # asperity squeeze-out (w_asp 0.99 / 0.91 / 0.83 at 5 / 20 / 35 C). The tire's BFC
+    # nevertheless falls with temperature: the warm compound's wet friction falls steeply
+    # with the slip speed above ~1 m/s, where w_asp collapses
     dry, _, _ = r117
     wet = WetPerssonFriction(dry.compound, dry.surface, depths=(0.0, 1e-3)).at(1)
     r = wet.cold(1.0, np.array([278.15, 293.15, 308.15]), 2e5)

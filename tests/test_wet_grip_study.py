@@ -159,11 +159,12 @@ def test_wet_bfc_below_dry_and_reference_windows(spec):
         # the BFC is a mean deceleration under ABS: below the tire's peak over the speeds
         assert r["bfc_wet"] < r["peak_wet"] * 1.02, who
     ref = doc["reference"]
-    # measured on the shipped models (docs/physics.md, wet grip): BFC 0.69, peak 0.75 (0.73
-    # and 0.79 on the previous synthetic compound); a change of more than a few hundredths is
-    # a change of the physics, not noise
-    assert ref["bfc_wet"] == pytest.approx(0.688, abs=0.02)
-    assert ref["peak_wet"] == pytest.approx(0.749, abs=0.02)
+    # measured on the shipped models (docs/physics.md, wet grip): BFC 0.66, peak 0.74 (0.69
+    # and 0.75 on the realistic compound before the asperity squeeze-out, 0.73 and 0.79 on the
+    # previous synthetic compound); a change of more than a few hundredths is a change of the
+    # physics, not noise
+    assert ref["bfc_wet"] == pytest.approx(0.659, abs=0.02)
+    assert ref["peak_wet"] == pytest.approx(0.739, abs=0.02)
     G = 1.25 * doc["candidate"]["bfc_wet"] / ref["bfc_wet"]  # same temperature: no correction
     assert doc["G"] == pytest.approx(G, rel=1e-12)
     assert doc["label_class"] == label_class(G)
