@@ -125,7 +125,7 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
      "tire_brush/csrc/tirert.c", "h * ((Vsy - V_r * s->psi) - s->Vp[1])",
      "h * ((Vsy + V_r * s->psi) - s->Vp[1])"),
     ("real-time: the tread's heat from the friction power halved", "tire_brush/csrc/tirert.c",
-     "double Q = (mus * mus) * o[15] * h;", "double Q = 0.5 * (mus * mus) * o[15] * h;"),
+     "double Q = P * h;", "double Q = 0.5 * P * h;"),
     ("real-time: no transit lag of the adhesion zone", "tire_brush/csrc/tirert.c",
      "double tau = ((2.0 / 3.0) * a) * (1.0 - frac) / vr;", "double tau = 0.0;"),
     # -- tire core (tire_brush/csrc/tirecore.c, what the models and the FMU run) -------------

@@ -477,9 +477,12 @@ def rt_advance(p: Any, ev: PatchEval, s: Any, h: float, Vsx: float, Vsy: float, 
     Fy = F0y + (J[2] * dVx + J[3] * dVy)
     Mz = Mz0 + (J[4] * dVx + J[5] * dVy)
     Mb = M0 + (J[6] * dVx + J[7] * dVy)
+    ddx = ddy = 0.0
     if not rigid:
-        s.delta[0] += (Fx - kcx * s.delta[0]) * iAx
-        s.delta[1] += (Fy - kcy * s.delta[1]) * iAy
+        ddx = (Fx - kcx * s.delta[0]) * iAx
+        ddy = (Fy - kcy * s.delta[1]) * iAy
+        s.delta[0] += ddx
+        s.delta[1] += ddy
         dpsi = (Mb - kps * s.psi) * iB
         s.psi += dpsi
         s.wpsi = dpsi / h
@@ -489,7 +492,16 @@ def rt_advance(p: Any, ev: PatchEval, s: Any, h: float, Vsx: float, Vsy: float, 
     s.F[1] = Fy
     s.M = Mb
     if p.thermal:
-        Q = (mus * mus) * ex[3] * h
+        # the patch's friction heat, at most the work the belt does on the patch (its force
+        # on the belt's slip velocity, Vs + d(delta)/dt - V_r psi): while the patch's slip
+        # lags the belt's the table's power at it could exceed what the belt delivers
+        P = (mus * mus) * ex[3]
+        Pb = -(Fx * (Vsx + ddx / h) + Fy * ((Vsy + ddy / h) - V_r * s.psi))
+        if not (Pb > 0.0):
+            Pb = 0.0
+        if P > Pb:
+            P = Pb
+        Q = P * h
         s.T_tread = (s.T_tread + (p.heat_fraction * Q + h * q_roll +
                                   h * p.conductance * Ts) / p.heat_capacity) / \
             (1.0 + h * p.conductance / p.heat_capacity)

@@ -305,9 +305,12 @@ void tf_rt_advance(const tf_params *p, const tf_patch *pt, tf_rt_state *s, doubl
     double Fy = F0y + (J[2] * dVx + J[3] * dVy);
     double Mz = Mz0 + (J[4] * dVx + J[5] * dVy);
     double Mb = M0 + (J[6] * dVx + J[7] * dVy);
+    double ddx = 0.0, ddy = 0.0;
     if (!rigid) {
-        s->delta[0] += (Fx - kcx * s->delta[0]) * iAx;
-        s->delta[1] += (Fy - kcy * s->delta[1]) * iAy;
+        ddx = (Fx - kcx * s->delta[0]) * iAx;
+        ddy = (Fy - kcy * s->delta[1]) * iAy;
+        s->delta[0] += ddx;
+        s->delta[1] += ddy;
         double dpsi = (Mb - kps * s->psi) * iB;
         s->psi += dpsi;
         s->wpsi = dpsi / h;
@@ -318,7 +321,14 @@ void tf_rt_advance(const tf_params *p, const tf_patch *pt, tf_rt_state *s, doubl
     s->F[1] = Fy;
     s->M = Mb;
     if (p->thermal) {
-        double Q = (mus * mus) * o[15] * h;
+        /* the patch's friction heat, at most the work the belt does on the patch (its force
+         * on the belt's slip velocity, Vs + d(delta)/dt - V_r psi): while the patch's slip
+         * lags the belt's the table's power at it could exceed what the belt delivers */
+        double P = (mus * mus) * o[15];
+        double Pb = -(Fx * (Vsx + ddx / h) + Fy * ((Vsy + ddy / h) - V_r * s->psi));
+        if (!(Pb > 0.0)) Pb = 0.0;
+        if (P > Pb) P = Pb;
+        double Q = P * h;
         s->T_tread = (s->T_tread + (p->heat_fraction * Q + h * q_roll +
                                     h * p->conductance * Ts) / p->heat_capacity) /
                      (1.0 + h * p->conductance / p->heat_capacity);
