@@ -24,6 +24,16 @@ import time
 import numpy as np
 
 
+def _parts(res, i=...) -> dict:
+    """The parts of a RollingResistance result [N/kN]: the tread's footprint-pressure loss
+    (eq. 29), the tread band's and the belt's bending, the sidewalls' deflection loss."""
+    band = res.f_band if res.f_band is not None else 0 * res.f_tread
+    belt = res.f_belt if res.f_belt is not None else 0 * res.f_tread
+    return {"tread_p": 1e3 * (res.f_tread - band)[i], "band": 1e3 * band[i],
+            "belt": 1e3 * belt[i], "sidewall": 1e3 * (res.f_carcass - belt)[i],
+            "total": 1e3 * res.f_r[i]}
+
+
 def rolling_report() -> dict:
     from dataclasses import replace
 
@@ -38,18 +48,39 @@ def rolling_report() -> dict:
     iso_tire = replace(tire, patch=replace(tire.patch, p_inflation=rr.iso_inflation))
     V, T = 80 / 3.6, 298.15
     loads = np.array([0.5, 1.2]) * rr.load_index_load
-    Fr = rolling_resistance(iso_tire, comp, V, loads, T, rr=rr).F_r
+    rl = rolling_resistance(iso_tire, comp, V, loads, T, rr=rr)
+    Fr = rl.F_r
     alpha = math.log(Fr[1] / Fr[0]) / math.log(loads[1] / loads[0])
     ps = np.array([210e3, 250e3])
-    Frp = [float(rolling_resistance(replace(tire, patch=replace(tire.patch, p_inflation=p)),
-                                    comp, V, iso.load_N, T, rr=rr).F_r) for p in ps]
-    beta = math.log(Frp[1] / Frp[0]) / math.log(ps[1] / ps[0])
+    rp = [rolling_resistance(replace(tire, patch=replace(tire.patch, p_inflation=p)),
+                             comp, V, iso.load_N, T, rr=rr) for p in ps]
+    beta = math.log(float(rp[1].F_r) / float(rp[0].F_r)) / math.log(ps[1] / ps[0])
     speeds = np.array([20, 50, 80, 120, 150]) / 3.6
     fv = rolling_resistance(iso_tire, comp, speeds, iso.load_N, T, rr=rr)
     parts = rolling_resistance(iso_tire, comp, V, iso.load_N, T, rr=rr)
+    Ts = np.array([293.15, 298.15, 303.15, 328.15, 333.15, 338.15])
+    rt = rolling_resistance(iso_tire, comp, V, iso.load_N, Ts, rr=rr)
+    pt = [_parts(rt, i) for i in range(Ts.size)]
+
+    def per_K(i0, i1, k):  # the part's change per K over the total, %/K
+        return 100 * (pt[i1][k] - pt[i0][k]) / ((Ts[i1] - Ts[i0]) * pt[(i0 + i1) // 2]["total"])
+
+    pl = [_parts(rl, 0), _parts(rl, 1)]
+    pp = [_parts(r, ...) for r in rp]
+    keys = ("tread_p", "band", "belt", "sidewall")
     return {"rrc": iso.rrc_N_per_kN, "class": iso.label_class, "per_K": 100 * iso.per_K,
             "alpha": alpha, "beta": beta, "f_tread": 1e3 * float(parts.f_tread),
             "f_carcass": 1e3 * float(parts.f_carcass),
+            "parts": {k: float(v) for k, v in _parts(parts, ...).items()},
+            "per_K_parts": {k: per_K(0, 2, k) for k in keys},
+            "rrc_60C": pt[4]["total"], "per_K_60C": per_K(3, 5, "total"),
+            "parts_60C": pt[4],
+            # force exponents of the parts: F ~ Fz^alpha (f = F/Fz) and F ~ p^beta
+            "alpha_parts": {k: 1 + math.log(pl[1][k] / pl[0][k]) / math.log(1.2 / 0.5)
+                            for k in keys if pl[0][k] > 0},
+            "beta_parts": {k: math.log(float(pp[1][k]) / float(pp[0][k])) / math.log(250 / 210)
+                           for k in keys if float(pp[0][k]) > 0},
+            "tread_share": float(parts.tread_share), "heat_W": float(parts.heat_rate),
             "f_v": (fv.f_r / fv.f_r[2]).tolist()}
 
 
@@ -93,9 +124,20 @@ def main() -> int:
     print("rolling resistance (ISO 28580: 80 km/h, 25 C, 4825 N, 210 kPa)")
     print(f"  RRC {r['rrc']:.2f} N/kN (tread {r['f_tread']:.2f}, carcass {r['f_carcass']:.2f}),"
           f" class {r['class']}   [passenger tires 6-12 N/kN]")
-    print(f"  change per K {r['per_K']:+.2f} %/K   [ISO 28580: -0.8 %/K; accepted -0.5..-1.2]")
-    print(f"  load exponent {r['alpha']:.3f}   [0.85-1.05]; pressure exponent {r['beta']:.3f}"
-          f"   [-0.25..-0.5]")
+
+    def fmt(d, f):
+        return ", ".join(f"{k} {f.format(v)}" for k, v in d.items())
+
+    print(f"  parts [N/kN]: {fmt(r['parts'], '{:.2f}')}; tread share {r['tread_share']:.2f}, "
+          f"heat {r['heat_W']:.0f} W")
+    print(f"  change per K {r['per_K']:+.2f} %/K   [ISO 28580: -0.8 %/K; accepted -0.5..-1.2]"
+          f"; parts {fmt(r['per_K_parts'], '{:+.2f}')}")
+    print(f"  whole tire at 60 C: RRC {r['rrc_60C']:.2f} N/kN ({fmt(r['parts_60C'], '{:.2f}')}),"
+          f" change per K {r['per_K_60C']:+.2f} %/K")
+    print(f"  load exponent {r['alpha']:.3f}   [0.85-1.05]; parts "
+          f"{fmt(r['alpha_parts'], '{:.2f}')}")
+    print(f"  pressure exponent {r['beta']:.3f}   [-0.25..-0.5]; parts "
+          f"{fmt(r['beta_parts'], '{:+.2f}')}")
     print("  f_r(V)/f_r(80 km/h) at 20/50/80/120/150 km/h: "
           + " / ".join(f"{x:.3f}" for x in r["f_v"]))
     mpd = (0.7 - 0.2) / 0.8

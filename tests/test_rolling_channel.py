@@ -149,9 +149,9 @@ def test_coast_down_through_the_fmu_decelerates_by_rolling_resistance(tmp_path):
     f_r Fz / (m + J / R^2) (the wheel's inertia rides along), f_r the FMU's table at 20 m/s
     and 20 C; measured over 0.3-0.8 s to 1 % (the speed falls by 0.1 m/s and the tread warms
     by 0.04 K: f_r changes by well under 1 %; measured 0.2 %). The table's trilinear value
-    is within 8 % of the model's (measured 1.6 % at 20 C and this load; up to 13 % elsewhere
-    in the operating range: the summer tread's part, 43 % of f_r at the ISO point, curves
-    with temperature and the table's 10 K temperature nodes interpolate it linearly;
+    is within 8 % of the model's (measured 1.7 % at 20 C and 4.4 kN; up to 32 % elsewhere in
+    the operating range, below 0 C: the tread's parts, 39 % of f_r at the ISO point, curve
+    with temperature and the table's 10 K temperature nodes interpolate them linearly;
     docs/tire-core.md)."""
     from fmu_src.host.cosim import CosimSettings, simulate_braking_fmu
     from tire_brush.braking.abs_control import TorqueRamp

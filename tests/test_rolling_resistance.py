@@ -41,8 +41,9 @@ def rr(tire):
 @pytest.fixture(scope="module")
 def rr_law(rr):
     """The power-law carcass loss on the footprint pulse (the former shipped parameters:
-    tan delta 0.10 at 10 Hz and 60 C, m = 0.1, T_g -60 C), for the closed forms."""
-    return replace(rr, carcass_compound="", carcass_pulse="footprint",
+    tan delta 0.10 at 10 Hz and 60 C, m = 0.1, T_g -60 C), without the belt's bending, for
+    the closed forms."""
+    return replace(rr, carcass_compound="", carcass_pulse="footprint", belt_bending_stiffness=0.0,
                    carcass_loss_tangent=0.10, carcass_reference_frequency=2 * math.pi * 10.0,
                    carcass_reference_temperature=333.15, carcass_loss_slope=0.1,
                    carcass_T_g=213.15)
@@ -86,15 +87,16 @@ def test_zero_load_and_creep_limit(tire, compound):
 
 
 def test_tread_term_is_eq29_of_lookup(tire, compound, rr):
-    """The vectorised tread part equals lookup.rolling.tread_rolling_resistance (eq. 29)."""
+    """The vectorised tread part's footprint-pressure loss equals
+    lookup.rolling.tread_rolling_resistance (eq. 29); f_tread adds the tread band's bending."""
     Fz, V, T = 4000.0, 15.0, 310.0
     x, p, _ = rrm.footprint_profile(tire, Fz)
     assert math.isclose(np.trapezoid(p, x) * tire.patch.size(Fz)[1], Fz, rel_tol=2e-3)
     land = 1.0 - tire.tread.void_ratio
     ref = tread_rolling_resistance(x, p / land, rr.tread_depth, V, compound, T,
                                    support="winkler")
-    got = rrm.rolling_resistance(tire, compound, V, Fz, T).f_tread
-    assert math.isclose(float(got), ref, rel_tol=1e-9)
+    res = rrm.rolling_resistance(tire, compound, V, Fz, T)
+    assert math.isclose(float(res.f_tread - res.f_band), ref, rel_tol=1e-9)
 
 
 def test_rises_with_the_loss(tire, compound, rr_law):
@@ -114,15 +116,16 @@ def test_rises_with_the_loss(tire, compound, rr_law):
 
 
 def test_falls_with_temperature_on_the_rubbery_side(tire, compound):
-    """The carcass part falls from 300 to 390 K (the sidewall compound's loss tangent falls
-    with temperature on its rubbery side). The tread part, a compliance loss
-    (Im(1/E) = E''/|E|^2 of a pressure-loaded layer), falls once the tread is rubbery at
-    footprint frequencies; on the flank of the glass transition below ~60 C the shipped summer
-    compound's E' falls faster with T than its tan delta and the tread part rises (measured at
-    22 m/s, 4 kN: 4.6 N/kN at 27 C, 5.9 at 57 C, 4.2 at 117 C). With the tread carrying about
-    half of f_r (the sidewall carcass's 4.4 N/kN at 27 C) the total follows the tread there:
-    it rises up to ~60 C (9.0 -> 9.9 N/kN) and falls above (7.5 N/kN at 117 C). (With the
-    former judged carcass, 19 N/kN, f_r fell over the whole range.)"""
+    """The carcass part (sidewalls and belt) falls from 300 to 390 K (the sidewall/ply-skim
+    compound's loss tangent falls with temperature on its rubbery side). The tread part's
+    footprint-pressure loss, a compliance loss (Im(1/E) = E''/|E|^2 of a pressure-loaded
+    layer), falls once the tread is rubbery at footprint frequencies; on the flank of the glass
+    transition below ~60 C the shipped summer compound's E' falls faster with T than its tan
+    delta and it rises; the tread band's bending loss (~ E'') falls throughout (measured at
+    22 m/s, 4 kN: tread part 4.96 N/kN at 27 C, of it band 0.33; 6.02 (0.16) at 57 C; 4.23
+    (0.06) at 117 C). With the tread carrying ~45 % of f_r (carcass 5.97 N/kN at 27 C, belt
+    2.32 of it) the total follows the tread there: it rises up to ~60 C (10.9 -> 11.5 N/kN)
+    and falls above (8.9 N/kN at 117 C)."""
     T = np.linspace(300.0, 390.0, 10)
     res = rrm.rolling_resistance(tire, compound, 22.0, 4000.0, T)
     assert (np.diff(res.f_tread[T >= 333.0]) < 0).all()
@@ -155,7 +158,7 @@ def test_iso28580_consistent(tire, compound, rr):
     assert iso.per_K == pytest.approx((direct.f_r[2] - direct.f_r[1]) / (10 * direct.f_r[0]))
     # the change per K is the parts' changes: the sidewall carcass's loss falls with T, the
     # summer tread's compliance loss rises at 25 C (test above), and on the shipped tire the
-    # tread wins: +0.50 %/K against ISO 28580's -0.8 %/K (docs/rolling.md, "Limits")
+    # tread wins: +0.27 %/K against ISO 28580's -0.8 %/K (docs/rolling.md, "Limits")
     d_tread = (direct.f_tread[2] - direct.f_tread[1]) / (10 * direct.f_r[0])
     d_carcass = (direct.f_carcass[2] - direct.f_carcass[1]) / (10 * direct.f_r[0])
     assert d_carcass < 0 < d_tread
@@ -345,3 +348,118 @@ def test_ring_pulse_closed_forms(tire):
         # footprint pulse's (sum n w_n ~ R/a), so less loss per cycle at a constant tan delta
         wf = rrm.harmonic_weights(a, R, n_rev=1 << 16)
         assert np.sum(n * w) < np.sum(n * wf)
+
+
+def test_belt_bending_energy_closed_form(tire):
+    """The belt's curvature change, -1/R0 over the flattened patch and
+    (w_a/lam^2) exp(-(|s|-a)/lam) in the two transition zones, integrates to zero (the ring
+    closes: w_a/lam = a/R0), and its bending energy without the boundary layer (l_b = 0) is
+    (EI/2) int kappa^2 = EI/R0^2 (a + a^2/(2 lam)) (the patch's EI/(2 R0^2) x 2a plus the
+    zones'). 1e-3: the string's curvature jumps at the patch edges are sampled on cells of
+    L/2^16 = 0.03 mm, and the tails are cut at half a revolution (~15 lam). The boundary layer
+    only lowers the energy (harmonic n divided by 1 + (n l_b/R)^2)."""
+    R0, R = tire.patch.R0, tire.R_e
+    L = 2 * math.pi * R
+    EI = 3.0
+    for Fz in (2000.0, 4825.0, 8000.0):
+        a, _ = tire.patch.size(Fz)
+        rho = Fz / tire.patch.vertical_stiffness
+        w_a, lam = rrm.ring_pulse(a, rho, R0)
+        s, _ = rrm.belt_curvature(a, rho, R0, R, 0.0, n_rev=1 << 16)
+        raw = np.where(np.abs(s) <= a, -1 / R0, w_a / lam**2 * np.exp(-(np.abs(s) - a) / lam))
+        assert abs(raw.mean()) < 1e-3 * (1 / R0) * 2 * a / L  # closes to the sampling error
+        c = rrm.belt_harmonics(a, rho, R0, R, 0.0, n_rev=1 << 16)
+        U = 0.5 * EI * L * c.sum()
+        assert U == pytest.approx(EI / R0**2 * (a + a * a / (2 * lam)), rel=1e-3)
+        c_bl = rrm.belt_harmonics(a, rho, R0, R, 0.02, n_rev=1 << 16)
+        assert (c_bl <= c + 1e-30).all() and c_bl.sum() < c.sum()
+
+
+def test_belt_loss_against_the_time_domain(tire, rr):
+    """For a Kelvin-Voigt belt skim (eta = omega tau: the power law with m = 1 at its
+    reference temperature) the harmonic sum of belt_coefficient must equal the time-domain
+    loss: each unit length of belt loses EI tau int (d kappa/dt)^2 dt = EI tau V int
+    kappa'(s)^2 ds per revolution, and a revolution's travel equals the belt's length, so
+    f = EI tau V int kappa'^2 ds / Fz, with kappa' by central differences on the sampled
+    curvature (smooth: l_b = sqrt(EI/T) ~ 17 mm against cells of 0.12 mm). 0.5 %: the
+    differences' truncation at
+    the kinks of the smoothed curvature. A constant loss tangent gives
+    2 U_b eta sum n w_n/(R_e Fz): the per-cycle pi eta x energy of each harmonic."""
+    tau = 1e-6  # eta <= 0.15 at the highest harmonic of 2^14 samples at 20 m/s: below the cap
+    law = replace(rr, belt_compound="", carcass_compound="", carcass_loss_tangent=tau,
+                  carcass_reference_frequency=1.0, carcass_loss_slope=1.0,
+                  carcass_reference_temperature=300.0)
+    Fz, V, n_rev = 4825.0, 20.0, 1 << 14
+    bb = rrm.belt_coefficient(tire, law, Fz, V, 300.0, None, n_rev=n_rev)
+    a, _ = tire.patch.size(Fz)
+    rho = Fz / tire.patch.vertical_stiffness
+    assert bb.l_b == pytest.approx(math.sqrt(rr.belt_bending_stiffness / (
+        tire.patch.p_inflation * tire.patch.R0 * rr.belt_width)))
+    s, kappa = rrm.belt_curvature(a, rho, tire.patch.R0, tire.R_e, bb.l_b, n_rev)
+    ds = s[1] - s[0]
+    dk = (np.roll(kappa, -1) - np.roll(kappa, 1)) / (2 * ds)
+    per_length = rr.belt_bending_stiffness * tau * V * np.sum(dk * dk) * ds  # J/m
+    assert float(bb.f_belt) == pytest.approx(per_length / Fz, rel=5e-3)
+    assert float(bb.f_band) == 0.0  # no tread compound given
+    const = replace(law, carcass_loss_slope=0.0, carcass_loss_tangent=0.1)
+    bc = rrm.belt_coefficient(tire, const, Fz, V, 300.0, None, n_rev=n_rev)
+    c = rrm.belt_harmonics(a, rho, tire.patch.R0, tire.R_e, bb.l_b, n_rev)
+    n = np.arange(1, c.size + 1)
+    assert float(bc.f_belt) == pytest.approx(
+        2 * float(bc.U) * 0.1 * np.sum(n * c / c.sum()) / (tire.R_e * Fz), rel=1e-12)
+
+
+def test_bending_parts_dependences(tire, compound, rr):
+    """The signs the bending terms must have, each for its physical reason (ISO point: 80 km/h,
+    25 C, 210 kPa, 4825 N):
+
+    * the belt's and tread band's bending loss grows more slowly than the load (force exponent
+      < 1): every belt section is flattened once per revolution whatever the load, the energy
+      follows the contact length (a ~ Fz^0.5-0.8), not the deflection squared; the sidewalls'
+      deflection loss grows faster than the load (~ Fz^2/C_z');
+    * with them the whole tire's load exponent is lower than without;
+    * the tread band's loss is strain-imposed (~ E''), which falls with temperature on the
+      summer compound's rubbery side, unlike the footprint-pressure part (~ E''/|E|^2); the
+      belt skim's loss tangent falls with temperature too;
+    * the sidewalls' deflection loss falls with the inflation pressure (C_z' rises with p).
+    """
+    t210 = replace(tire, patch=replace(tire.patch, p_inflation=210e3))
+    V, Fz = 80 / 3.6, 4825.0
+    loads = np.array([0.5, 1.2]) * rr.load_index_load
+    res = rrm.rolling_resistance(t210, compound, V, loads, 298.15)
+    for f in (res.f_belt, res.f_band):
+        assert f[0] > 0 and 1 + math.log(f[1] / f[0]) / math.log(2.4) < 1.0
+    side = res.f_carcass - res.f_belt
+    assert 1 + math.log(side[1] / side[0]) / math.log(2.4) > 1.0
+    no_belt = rrm.rolling_resistance(t210, compound, V, loads, 298.15,
+                                     rr=replace(rr, belt_bending_stiffness=0.0))
+    assert res.F_r[1] / res.F_r[0] < no_belt.F_r[1] / no_belt.F_r[0]
+    rT = rrm.rolling_resistance(t210, compound, V, Fz, [293.15, 303.15])
+    assert rT.f_band[1] < rT.f_band[0] and rT.f_belt[1] < rT.f_belt[0]
+    rp = [rrm.rolling_resistance(replace(tire, patch=replace(tire.patch, p_inflation=p)),
+                                 compound, V, Fz, 298.15) for p in (210e3, 250e3)]
+    assert float(rp[1].f_carcass - rp[1].f_belt) < float(rp[0].f_carcass - rp[0].f_belt)
+
+
+@pytest.mark.xfail(strict=True, reason="not reproduced (docs/rolling.md, 'Limits'): the tread's "
+                   "footprint-pressure loss rises with temperature and pressure on the summer "
+                   "compound, and the sidewalls' part grows as Fz^2/C_z'")
+@pytest.mark.parametrize("which", ["inflation", "load", "temperature"])
+def test_whole_tire_dependences_of_real_tires(tire, compound, rr, which):
+    """What measured passenger tires do at the ISO point (ISO 28580's -0.8 %/K correction; MF
+    example QSY7 = 0.85, QSY8 = -0.4; SAE J2452 fits): F_r falls with the inflation pressure
+    (the footprint shortens and the sidewalls stiffen), grows less than linearly with the
+    load, and falls with temperature. The model does none of the three (strict: this fails
+    loudly once it does, and the docs must then be rewritten)."""
+    V, Fz = 80 / 3.6, 4825.0
+    t = {p: replace(tire, patch=replace(tire.patch, p_inflation=p)) for p in (210e3, 250e3)}
+    if which == "inflation":
+        f = [float(rrm.rolling_resistance(t[p], compound, V, Fz, 298.15).F_r) for p in t]
+        assert f[1] < f[0]
+    elif which == "load":
+        loads = np.array([0.5, 1.2]) * rr.load_index_load
+        F = rrm.rolling_resistance(t[210e3], compound, V, loads, 298.15).F_r
+        assert math.log(F[1] / F[0]) / math.log(2.4) < 1.0
+    else:
+        f = rrm.rolling_resistance(t[210e3], compound, V, Fz, [293.15, 303.15]).f_r
+        assert f[1] < f[0]

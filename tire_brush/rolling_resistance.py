@@ -65,13 +65,20 @@ glass temperature (Williams, Landel & Ferry, *J. Am. Chem. Soc.* 77, 3701 (1955)
 :math:`\log_{10} a_c = -17.44 (T - T_g)/(51.6 + T - T_g)`. Its parameters are in the tire
 file's ``[rolling_resistance]`` table, each with its source or marked as a judgment.
 
-Limits (approximate physics, said so): the deflection energy of a linear vertical spring makes
-the carcass loss grow as :math:`F_z^2` (f_r proportional to the load), whereas measured
-rolling resistance grows as :math:`F_z^{0.9}` (ISO 28580 / SAE J2452 fits); the missing part is
-the bending of the tread band into and out of the flat footprint, whose energy grows with the
-footprint length, not with the deflection squared. One temperature (the tread's) stands for
-the whole tire; the frequency content is that of a Winkler ring, not of a shell; standing waves
-(above ~150 km/h) are not modelled.
+**Belt and tread band** (:func:`belt_coefficient`): every belt section is flattened over the
+patch and bent back beyond it once per revolution, whatever the load; its bending energy
+follows the contact length, not the deflection squared, and is lost through the belt skim's
+loss tangent; the tread rubber on the belt bends with it (the tread compound's E''). Their
+energy is taken out of the structure's deflection work, the sidewalls keep the rest.
+
+Limits (approximate physics, said so; docs/rolling.md, "Limits"): the sidewalls' deflection
+energy of a linear vertical spring grows as :math:`F_z^2`, and the tread's footprint-pressure
+loss, a compliance loss, rises with the inflation pressure and, on the summer compound's
+rubbery side, with temperature: the whole tire's load exponent (1.10), pressure exponent
+(+0.18) and change per K at 25 C (+0.27 %/K) miss the measured ~0.9, ~-0.4 and -0.8 %/K
+(ISO 28580 / SAE J2452 fits). One temperature (the tread's) stands for the whole tire; the
+frequency content is that of a ring, not of a shell; standing waves (above ~150 km/h) are not
+modelled.
 """
 
 from __future__ import annotations
@@ -158,6 +165,15 @@ class RollingResistanceParams:
         ``"ring"``: the radial deflection of a tensioned ring on the sidewalls' foundation,
         flattened over the patch and decaying beyond it (:func:`ring_pulse`); ``"footprint"``:
         the Winkler pulse confined to the patch (:func:`harmonic_weights`).
+    belt_bending_stiffness : float
+        EI [N m^2] of the belt package (steel belts, cap ply, skim and the tread band) for
+        bending about the lateral axis; 0: no belt-bending term (:func:`belt_coefficient`).
+        Needs ``carcass_pulse = "ring"``.
+    belt_width : float
+        Width [m] of the belt that carries the inflation's hoop tension T = p R0 b_belt, which
+        sets the bending boundary layer sqrt(EI/T) at the patch edges.
+    belt_compound : str
+        Compound file or shipped name of the belt skim; empty: the carcass compound's loss.
     """
 
     tread_depth: float
@@ -175,8 +191,26 @@ class RollingResistanceParams:
     provenance: str = ""
     carcass_compound: str = ""
     carcass_pulse: str = "ring"
+    belt_bending_stiffness: float = 0.0
+    belt_width: float = 0.0
+    belt_compound: str = ""
 
     def __post_init__(self) -> None:
+        for name in ("belt_bending_stiffness", "belt_width"):
+            x = getattr(self, name)
+            if isinstance(x, bool) or not (isinstance(x, int | float) and math.isfinite(x)
+                                           and x >= 0):
+                raise InputError("must be a finite number >= 0",
+                                 field=f"RollingResistanceParams.{name}", value=x)
+        if self.belt_bending_stiffness > 0:
+            if self.belt_width <= 0:
+                raise InputError("a belt-bending term needs the belt width (> 0)",
+                                 field="RollingResistanceParams.belt_width",
+                                 value=self.belt_width)
+            if self.carcass_pulse != "ring":
+                raise InputError("the belt-bending term needs carcass_pulse = 'ring'",
+                                 field="RollingResistanceParams.carcass_pulse",
+                                 value=self.carcass_pulse)
         if self.carcass_pulse not in ("ring", "footprint"):
             raise InputError("must be 'ring' or 'footprint'",
                              field="RollingResistanceParams.carcass_pulse",
@@ -214,15 +248,28 @@ class RollingResistanceParams:
         omega [rad/s] > 0 and T [K] broadcast together.
         """
         if self.carcass_compound:
-            c = _carcass_compound(self.carcass_compound)
-            om, TT = np.broadcast_arrays(np.asarray(omega, float), np.asarray(T, float))
-            lred = np.log10(om) + np.asarray(c.log10_aT(TT), float)
-            lw, ltan = _loss_tangent_table(self.carcass_compound)
-            return 10.0 ** np.interp(lred, lw, ltan)
+            return _compound_loss(self.carcass_compound, omega, T)
         x = (np.log10(np.asarray(omega, float) / self.carcass_reference_frequency)
              + self.carcass_log10_aT(T))
         return np.minimum(self.carcass_loss_tangent * 10.0 ** (self.carcass_loss_slope * x),
                           1.0)
+
+
+    def belt_loss(self, omega: np.ndarray, T: np.ndarray) -> np.ndarray:
+        """Belt-skim loss tangent eta(omega, T) [1]: E''/E' of ``belt_compound``'s master
+        curve at omega a_T(T), or the carcass loss (:meth:`carcass_loss`) without one."""
+        if self.belt_compound:
+            return _compound_loss(self.belt_compound, omega, T)
+        return self.carcass_loss(omega, T)
+
+
+def _compound_loss(name: str, omega: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """E''/E' of a compound's small-strain master curve at omega a_T(T) (its own shift)."""
+    c = _carcass_compound(name)
+    om, TT = np.broadcast_arrays(np.asarray(omega, float), np.asarray(T, float))
+    lred = np.log10(om) + np.asarray(c.log10_aT(TT), float)
+    lw, ltan = _loss_tangent_table(name)
+    return 10.0 ** np.interp(lred, lw, ltan)
 
 
 @functools.lru_cache(maxsize=8)
@@ -269,8 +316,13 @@ def _load_from_file(path: str) -> RollingResistanceParams:
         comp = str(cpath) if cpath.suffix == ".toml" and cpath.is_file() else comp
     else:
         law = {}
+    bcomp = tab.string("belt_compound", "")
+    if bcomp:
+        bpath = Path(path).parent / bcomp
+        bcomp = str(bpath) if bpath.suffix == ".toml" and bpath.is_file() else bcomp
     try:
         _carcass_compound(comp) if comp else None
+        _carcass_compound(bcomp) if bcomp else None
         out = RollingResistanceParams(
             tread_depth=tab.quantity("tread_depth", "length", positive=True),
             tread_support=tab.string("tread_support", choices=("winkler", "bonded")),
@@ -291,6 +343,10 @@ def _load_from_file(path: str) -> RollingResistanceParams:
             carcass_T_g=tab.quantity("carcass_T_g", T, law.get("carcass_T_g", ...), positive=True),
             carcass_compound=comp,
             carcass_pulse=tab.string("carcass_pulse", "ring", choices=("ring", "footprint")),
+            belt_bending_stiffness=tab.quantity("belt_bending_stiffness", "bending_stiffness",
+                                                0.0, nonnegative=True),
+            belt_width=tab.quantity("belt_width", "length", 0.0, nonnegative=True),
+            belt_compound=bcomp,
             size=tab.string("size", ""),
             load_index=tab.integer("load_index", 0, minimum=0),
             load_index_load=tab.quantity("load_index_load", "force", 0.0, nonnegative=True),
@@ -321,7 +377,8 @@ class RollingResistance:
     f_r : numpy.ndarray
         Coefficient F_r / Fz [1] (0 where Fz = 0).
     f_tread, f_carcass : numpy.ndarray
-        Its tread (eq. 29) and carcass (deflection energy) parts [1].
+        Its tread (eq. 29) and carcass parts [1] (the carcass part: the sidewalls'
+        deflection energy plus the belt's bending, f_belt).
     F_r : numpy.ndarray
         Resistance force f_r Fz [N] (>= 0, opposing the motion).
     My : numpy.ndarray
@@ -331,6 +388,12 @@ class RollingResistance:
         Power dissipated, F_r |V| [W].
     tread_share : numpy.ndarray
         Share of heat_rate dissipated in the tread layer, f_tread / f_r [1] (0 where f_r = 0).
+    f_belt : numpy.ndarray or None
+        The belt package's bending loss [1] (:func:`belt_coefficient`); f_carcass includes
+        it.
+    f_band : numpy.ndarray or None
+        The tread band's bending loss [1] (:func:`belt_coefficient`); f_tread includes it
+        (it heats the tread).
     """
 
     f_r: np.ndarray
@@ -340,6 +403,8 @@ class RollingResistance:
     My: np.ndarray
     heat_rate: np.ndarray
     tread_share: np.ndarray
+    f_belt: np.ndarray | None = None
+    f_band: np.ndarray | None = None
 
     @property
     def rrc_N_per_kN(self) -> np.ndarray:
@@ -447,13 +512,164 @@ def ring_pulse_weights(a: float, rho: float, R0: float, R: float, n_rev: int = _
     return w
 
 
+def belt_curvature(a: float, rho: float, R0: float, R: float, l_b: float,
+                   n_rev: int = _N_REV) -> tuple[np.ndarray, np.ndarray]:
+    r"""Change of the belt's curvature kappa(s) [1/m] over one revolution of length 2 pi R.
+
+    The belt follows the ring's radial deflection delta(s) (:func:`ring_pulse`), and for a
+    deflection small against R0 its curvature changes by :math:`\kappa = \delta''`: -1/R0
+    over the flattened patch |s| < a (the curvature 1/R0 is removed), and
+    :math:`(w_a/\lambda^2) e^{-(|s|-a)/\lambda}` in the transition zones beyond it, where the
+    belt bends back more sharply than the circle (the overshoot, which grows with the
+    deflection); the two integrate to zero (:math:`w_a/\lambda = a/R_0`), the ring closes.
+    The string solution jumps in curvature at the patch edge; the belt's bending stiffness EI
+    under the hoop tension T spreads the jump over the boundary layer
+    :math:`l_b = \sqrt{EI/T}` (a tensioned beam, :math:`(1 - l_b^2 d^2/ds^2)\kappa =
+    \kappa_{\rm string}`; the flexible-ring models, Gong, PhD thesis TU Delft (1993);
+    Pacejka 2012, sec. 9.2), i.e. harmonic n is divided by :math:`1 + (n l_b/R)^2`.
+    ``l_b = 0`` keeps the string's jump. The curvature change :math:`\delta/R_0^2` of the
+    undeflected part of the ring is neglected (relative size :math:`(\lambda/R_0)^2`).
+
+    Returns
+    -------
+    s : numpy.ndarray
+        Travel coordinate [m] of the ``n_rev`` samples, from -pi R to pi R.
+    kappa : numpy.ndarray
+        Curvature change [1/m] at s (its mean removed).
+    """
+    w_a, lam = ring_pulse(a, rho, R0)
+    L = 2.0 * math.pi * R
+    s = (np.arange(n_rev) + 0.5) * (L / n_rev) - 0.5 * L
+    tail = (w_a / lam**2) * np.exp(-(np.abs(s) - a) / lam) if lam > 0 else np.zeros_like(s)
+    kappa = np.where(np.abs(s) <= a, -1.0 / R0, tail)
+    kh = np.fft.rfft(kappa)
+    kh[0] = 0.0
+    if l_b > 0:
+        n = np.arange(kh.size, dtype=float)
+        kh /= 1.0 + (n * l_b / R) ** 2
+    return s, np.fft.irfft(kh, n_rev)
+
+
+def belt_harmonics(a: float, rho: float, R0: float, R: float, l_b: float,
+                   n_rev: int = _N_REV) -> np.ndarray:
+    """Mean-square curvature change of each harmonic, c_n = 2|kappa_n|^2 [1/m^2]
+    (n = 1 .. n_rev/2) of :func:`belt_curvature`, so that sum c_n = <kappa^2>: the belt's
+    bending energy at any instant is U_b = (EI/2) 2 pi R sum c_n. For l_b -> 0,
+    U_b -> EI/R0^2 (a + a^2/(2 lambda)): the flattened patch plus the two transition zones."""
+    _, kappa = belt_curvature(a, rho, R0, R, l_b, n_rev)
+    kh = np.fft.rfft(kappa) / n_rev
+    c = 2.0 * np.abs(kh[1:]) ** 2
+    if n_rev % 2 == 0:  # the Nyquist term is not paired
+        c[-1] *= 0.5
+    return c
+
+
+@dataclass(frozen=True)
+class BeltBending:
+    """Result of :func:`belt_coefficient` at one load (arrays of the broadcast V, T shape)."""
+
+    f_belt: np.ndarray
+    """Loss of the belt package's bending (its skim compound) over F_z [1]."""
+    f_band: np.ndarray
+    """Loss of the tread band bent with the belt (the tread compound's E'') over F_z [1]."""
+    U: np.ndarray
+    """Bending energy of belt and tread band at any instant [J]."""
+    l_b: float
+    """Bending boundary layer sqrt(EI/T) at the patch edges [m]."""
+
+
+def _modulus_loglog(compound: Compound, log10_omega: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """E'(omega), E''(omega) of the compound's small-strain master curve (at its T_ref) at
+    log10 omega, read linearly in log-log from fixed nodes 0.01 decade apart over the range
+    asked (within 1e-5 of the master curve for the shipped summer compound; one evaluation
+    of the spectrum per node instead of per point)."""
+    # nodes on the fixed lattice k/100 decades, so that a point reads the same two nodes
+    # whatever else is asked with it (the result does not depend on the batch)
+    k0 = math.floor(float(np.min(log10_omega)) * 100.0)
+    k1 = max(math.ceil(float(np.max(log10_omega)) * 100.0), k0 + 1)
+    lw = np.arange(k0, k1 + 1) / 100.0
+    Er, Ei = compound.modulus.storage_loss(10.0 ** lw)
+    lr = np.log10(np.maximum(np.asarray(Er, float), 1e-300))
+    li = np.log10(np.maximum(np.asarray(Ei, float), 1e-300))
+    return 10.0 ** np.interp(log10_omega, lw, lr), 10.0 ** np.interp(log10_omega, lw, li)
+
+
+def belt_coefficient(params: TireParams, rr: RollingResistanceParams, Fz: float,
+                     V: np.ndarray, T: np.ndarray, compound: Compound | None = None,
+                     n_rev: int = _N_REV) -> BeltBending:
+    r"""Bending losses of the belt and of the tread band on it, at one load.
+
+    Every section of the belt is flattened once per revolution, whatever the load, and bent
+    back beyond the patch more sharply than the circle (:func:`belt_curvature`). For a
+    bending stiffness with loss, :math:`B = B' + iB''`, a curvature harmonic
+    :math:`\kappa_n` loses :math:`\pi B''|	ext{amplitude}|^2` per cycle and per unit length
+    and goes through n cycles per revolution (as the carcass, module doc), so that with
+    :math:`c_n = 2|\hat\kappa_n|^2` and :math:`L = 2\pi R_e`
+
+    .. math:: f = rac{E_{
+m rev}}{L F_z} = rac{L}{R_e F_z}\sum_{n\ge1} n\,c_n\,
+              B''(n V/R_e, T) .
+
+    Two layers bend: the belt package, :math:`B'' = EI\,\eta_b` (its skim compound's loss
+    tangent, :meth:`RollingResistanceParams.belt_loss`); and the tread rubber bonded on it,
+    whose neutral axis is the (circumferentially inextensible) steel belt:
+    :math:`B = I_t E(\omega a_T)/(1-
+u^2)`, :math:`I_t = (1-\phi) b_{
+m belt} h^3/3`
+    (tread depth h, void ratio phi, plane strain across the belt's width), with the tread
+    compound's small-strain master curve: this part of the tread's loss is strain-imposed
+    (loss ~ E''), unlike the footprint-pressure part (eq. 29, loss ~ E''/|E|^2). The hoop
+    tension is :math:`T = p R_0 b_{
+m belt}` (the ring's pretension by the inflation
+    pressure p; Gong 1993; Pacejka 2012, sec. 9.2). Zero without a belt EI.
+    """
+    V = np.asarray(V, float)
+    T_K = np.asarray(T, float)
+    Vb, Tb = np.broadcast_arrays(V, T_K)
+    EI = rr.belt_bending_stiffness
+    zero = np.zeros(Vb.shape)
+    if EI <= 0.0:
+        return BeltBending(zero, zero, zero, 0.0)
+    a, _ = params.patch.size(Fz)
+    rho = min(Fz, params.patch.Fz_max) / params.patch.vertical_stiffness
+    tension = params.patch.p_inflation * params.patch.R0 * rr.belt_width
+    l_b = math.sqrt(EI / tension) if tension > 0 else 0.0
+    c = belt_harmonics(a, rho, params.patch.R0, params.R_e, l_b, n_rev)
+    n = np.arange(1, c.size + 1, dtype=float)
+    # the boundary layer makes c_n fall as n^-6 beyond R/l_b: drop the harmonics whose
+    # share of sum n c_n is below 1e-10 (the loss factors are bounded, so is their error)
+    tail = np.cumsum((n * c)[::-1])[::-1]
+    keep = max(int(np.count_nonzero(tail > 1e-10 * tail[0])), 1)
+    c, n = c[:keep], n[:keep]
+    L = 2.0 * math.pi * params.R_e
+    omega = Vb[..., None] / params.R_e * n
+    f_belt = EI * L / (params.R_e * Fz) * np.sum(n * c * rr.belt_loss(omega, Tb[..., None]),
+                                                  axis=-1)
+    U = 0.5 * EI * L * float(c.sum()) + zero
+    f_band = zero.copy()
+    if compound is not None:
+        land = 1.0 - params.tread.void_ratio
+        I_t = land * rr.belt_width * rr.tread_depth ** 3 / 3.0
+        lred = np.log10(omega) + np.asarray(compound.log10_aT(Tb), float)[..., None]
+        Er, Ei = _modulus_loglog(compound, lred)
+        k = I_t / (1.0 - compound.nu ** 2)
+        f_band = k * L / (params.R_e * Fz) * np.sum(n * c * Ei, axis=-1)
+        U = U + 0.5 * k * L * np.sum(c * Er, axis=-1)
+    return BeltBending(f_belt, f_band, U, l_b)
+
+
 def carcass_coefficient(params: TireParams, rr: RollingResistanceParams, Fz: float,
-                        V: np.ndarray, T: np.ndarray, n_rev: int = _N_REV) -> np.ndarray:
+                        V: np.ndarray, T: np.ndarray, n_rev: int = _N_REV,
+                        U_belt: float | np.ndarray = 0.0) -> np.ndarray:
     r"""Carcass part of f_r at one load: :math:`\chi F_z/(C_z' R_e)\sum_n n w_n
     \eta(nV/R_e, T)`.
 
     ``V`` [m/s] > 0 and ``T`` [K] broadcast together; ``n_rev`` samples of a revolution
-    (harmonics up to n_rev/2).
+    (harmonics up to n_rev/2). ``U_belt`` [J], the belt's and tread band's bending energy
+    (:func:`belt_coefficient`, broadcast with V and T), is taken out of the structure's
+    deflection energy chi Fz^2/(2 C_z') (it is part of it: the belt is flattened by the
+    load), leaving the sidewalls' share (not below 0).
     """
     a, _ = params.patch.size(Fz)
     if rr.carcass_pulse == "ring":
@@ -468,7 +684,10 @@ def carcass_coefficient(params: TireParams, rr: RollingResistanceParams, Fz: flo
     omega = Vb[..., None] / params.R_e * n
     eta = rr.carcass_loss(omega, Tb[..., None])
     base = rr.deflection_energy_share * Fz / (params.patch.vertical_stiffness * params.R_e)
-    return base * np.sum(n * w * eta, axis=-1)
+    U = rr.deflection_energy_share * Fz * Fz / (2.0 * params.patch.vertical_stiffness)
+    # the belt's and tread band's bending energy is part of the structure's deflection work
+    share = np.maximum(U - np.asarray(U_belt, float), 0.0) / U
+    return base * share * np.sum(n * w * eta, axis=-1)
 
 
 # -- the public functions ------------------------------------------------------------------------
@@ -522,12 +741,19 @@ def rolling_resistance(params: TireParams, compound: Compound,
     Vabs = np.maximum(np.abs(Vf), V_CREEP)
     f_t = np.zeros(Vf.size)
     f_c = np.zeros(Vf.size)
+    f_b = np.zeros(Vf.size)
+    f_band = np.zeros(Vf.size)
     log10_aT = np.asarray(compound.log10_aT(Tf), float)
     for load in np.unique(Ff[Ff > 0]):
         sel = Ff == load
         f_t[sel] = tread_coefficient(params, compound, rr, float(load),
                                      Vabs[sel] * 10.0 ** log10_aT[sel])
-        f_c[sel] = carcass_coefficient(params, rr, float(load), Vabs[sel], Tf[sel])
+        bb = belt_coefficient(params, rr, float(load), Vabs[sel], Tf[sel], compound)
+        f_b[sel] = bb.f_belt
+        f_band[sel] = bb.f_band
+        f_t[sel] += bb.f_band
+        f_c[sel] = bb.f_belt + carcass_coefficient(params, rr, float(load), Vabs[sel],
+                                                   Tf[sel], U_belt=bb.U)
     f_r = f_t + f_c
     F_r = f_r * Ff
     My = -np.sign(Vf) * F_r * params.R_e
@@ -535,7 +761,7 @@ def rolling_resistance(params: TireParams, compound: Compound,
     with np.errstate(invalid="ignore", divide="ignore"):
         share = np.where(f_r > 0, f_t / np.where(f_r > 0, f_r, 1.0), 0.0)
     return RollingResistance(*(v.reshape(shape) for v in (f_r, f_t, f_c, F_r, My + 0.0, heat,
-                                                          share)))
+                                                          share, f_b, f_band)))
 
 
 def core_table(params: TireParams, compound: Compound, log10_V: np.ndarray, T_K: np.ndarray,

@@ -58,6 +58,7 @@ UNITS: dict[str, dict[str, tuple[float, float]]] = {
     "conductance": {"W/K": (1.0, 0.0), "": (1.0, 0.0)},
     "mass": {"kg": (1.0, 0.0)},
     "inertia": {"kg m^2": (1.0, 0.0)},
+    "bending_stiffness": {"N m^2": (1.0, 0.0), "N mm^2": (1e-6, 0.0)},
     "angle": {"rad": (1.0, 0.0), "deg": (math.pi / 180.0, 0.0)},
     "dimensionless": {"1": (1.0, 0.0), "": (1.0, 0.0)},
     # a strain amplitude: a fraction or a percentage; without a unit it is refused as
@@ -97,6 +98,7 @@ SI_UNITS: dict[str, tuple[str, dict[str, int]]] = {
     "conductance": ("W/K", {"kg": 1, "m": 2, "s": -3, "K": -1}),
     "mass": ("kg", {"kg": 1}),
     "inertia": ("kg.m2", {"kg": 1, "m": 2}),
+    "bending_stiffness": ("N.m2", {"kg": 1, "m": 3, "s": -2}),
     "angle": ("rad", {"rad": 1}),
     "dimensionless": ("1", {}),
     "strain": ("1", {}),

@@ -104,28 +104,96 @@ def compute_slice(model: SliceModel, v: float, T: np.ndarray, p: np.ndarray
     return res
 
 
-_WORKER_MODEL: SliceModel | None = None
+# -- the task runner (shared by the grid build and the compound screening) -------------------
+_WORKER_SHARED: Any = None
 
 
-def _init_worker(model: SliceModel) -> None:
-    global _WORKER_MODEL
-    _WORKER_MODEL = model
+def _init_worker(shared: Any) -> None:
+    global _WORKER_SHARED
+    _WORKER_SHARED = shared
     # Ctrl-C goes to the whole process group: let the parent handle it (checkpoint, then stop
     # the pool) instead of every worker dying with a KeyboardInterrupt of its own
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-def _worker_slice(iv: int, v: float, T: np.ndarray, p: np.ndarray
-                  ) -> tuple[int, dict[str, np.ndarray], float]:
-    t0 = time.perf_counter()
-    if _WORKER_MODEL is None:
-        raise RuntimeError("worker process was not initialised with a model")
-    out = compute_slice(_WORKER_MODEL, v, T, p)
-    return iv, out, time.perf_counter() - t0
+def _pool_call(func: Callable[..., Any], args: tuple[Any, ...]) -> Any:
+    if _WORKER_SHARED is None:
+        raise RuntimeError("worker process was not initialised with its shared object")
+    return func(_WORKER_SHARED, *args)
 
 
-def _dask_slice(model: SliceModel, iv: int, v: float, T: np.ndarray, p: np.ndarray
-                ) -> tuple[int, dict[str, np.ndarray], float]:
+def _dask_call(func: Callable[..., Any], shared: Any, args: tuple[Any, ...]) -> Any:
+    return func(shared, *args)
+
+
+def run_tasks(func: Callable[..., Any], shared: Any, tasks: list[tuple[Any, ...]], *,
+              workers: int = 1, scheduler: Any = None) -> Iterator[Any]:
+    """Run ``func(shared, *task)`` for every task and yield the results as they finish.
+
+    ``shared`` (the friction model of a grid build, the settings of a screening) is sent to
+    each worker once, the tasks carry only their own small arguments. ``func`` must be a
+    module-level function (picklable) whose result depends on its arguments only, so that
+    where it runs does not change the numbers:
+
+    * ``scheduler`` given: an existing Dask distributed cluster (address, or a
+      ``distributed.Client``); ``shared`` is scattered to every worker once;
+    * else ``workers == 1`` or a single task: in this process, in the given order;
+    * else a local :class:`concurrent.futures.ProcessPoolExecutor` of ``min(workers,
+      len(tasks))`` processes (fork where available: the workers inherit the imported
+      modules), ``shared`` passed once per worker through the initialiser.
+
+    Closing the iterator early (an interruption, an exception in the consumer) drops the
+    queued tasks and lets the running ones end; nothing half-done is yielded.
+    """
+    if scheduler is not None:
+        yield from _run_dask(func, shared, tasks, scheduler)
+    elif workers <= 1 or len(tasks) <= 1:
+        for args in tasks:
+            yield func(shared, *args)
+    else:
+        yield from _run_pool(func, shared, tasks, min(workers, len(tasks)))
+
+
+def _run_pool(func: Callable[..., Any], shared: Any, tasks: list[tuple[Any, ...]],
+              workers: int) -> Iterator[Any]:
+    methods = multiprocessing.get_all_start_methods()
+    ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                               initargs=(shared,))
+    try:
+        pending = {pool.submit(_pool_call, func, args) for args in tasks}
+        while pending:
+            finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for fut in finished:
+                yield fut.result()
+    finally:
+        # on an interruption: drop queued tasks, let running ones end, keep nothing half-done
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _run_dask(func: Callable[..., Any], shared: Any, tasks: list[tuple[Any, ...]],
+              scheduler: Any) -> Iterator[Any]:
+    from distributed import Client, as_completed
+
+    own = not isinstance(scheduler, Client)
+    client = Client(scheduler) if own else scheduler
+    try:
+        shared_f = client.scatter(shared, broadcast=True)
+        futures = [client.submit(_dask_call, func, shared_f, args, pure=False)
+                   for args in tasks]
+        try:
+            for fut in as_completed(futures):
+                yield fut.result()
+        finally:
+            client.cancel(futures)
+    finally:
+        if own:
+            client.close()
+
+
+def _timed_slice(model: SliceModel, iv: int, v: float, T: np.ndarray, p: np.ndarray
+                 ) -> tuple[int, dict[str, np.ndarray], float]:
+    """One slice of a grid build, with its compute time (a task of :func:`run_tasks`)."""
     t0 = time.perf_counter()
     out = compute_slice(model, v, T, p)
     return iv, out, time.perf_counter() - t0
@@ -255,54 +323,6 @@ def _progress(total: int, initial: int, enabled: bool, desc: str):
                 dynamic_ncols=True, smoothing=0.1)
 
 
-def _run_serial(model: SliceModel, remaining: list[int], spec: GridSpec
-                ) -> Iterator[tuple[int, dict[str, np.ndarray], float]]:
-    for iv in remaining:
-        t0 = time.perf_counter()
-        out = compute_slice(model, spec.v[iv], spec.T, spec.p)
-        yield iv, out, time.perf_counter() - t0
-
-
-def _run_pool(model: SliceModel, remaining: list[int], spec: GridSpec, workers: int
-              ) -> Iterator[tuple[int, dict[str, np.ndarray], float]]:
-    # fork where available: workers inherit the imported modules (fast start); the model is
-    # still passed explicitly, once per worker, through the initialiser
-    methods = multiprocessing.get_all_start_methods()
-    ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                               initargs=(model,))
-    try:
-        pending = {pool.submit(_worker_slice, iv, float(spec.v[iv]), spec.T, spec.p)
-                   for iv in remaining}
-        while pending:
-            finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for fut in finished:
-                yield fut.result()
-    finally:
-        # on an interruption: drop queued slices, let running ones end, keep nothing half-done
-        pool.shutdown(wait=True, cancel_futures=True)
-
-
-def _run_dask(model: SliceModel, remaining: list[int], spec: GridSpec, scheduler: Any
-              ) -> Iterator[tuple[int, dict[str, np.ndarray], float]]:
-    from distributed import Client, as_completed
-
-    own = not isinstance(scheduler, Client)
-    client = Client(scheduler) if own else scheduler
-    try:
-        model_f = client.scatter(model, broadcast=True)
-        futures = [client.submit(_dask_slice, model_f, iv, float(spec.v[iv]), spec.T, spec.p,
-                                 pure=False) for iv in remaining]
-        try:
-            for fut in as_completed(futures):
-                yield fut.result()
-        finally:
-            client.cancel(futures)
-    finally:
-        if own:
-            client.close()
-
-
 def build_grid(
     spec: GridSpec | str | Path,
     output: str | Path,
@@ -377,15 +397,14 @@ def build_grid(
     remaining = [int(i) for i in np.argsort(-spec.v, kind="stable") if not ckpt.done[i]]
     n_workers = 1 if scheduler is None and workers == 1 else (
         workers or os.cpu_count() or 1)
+    tasks = [(iv, float(spec.v[iv]), spec.T, spec.p) for iv in remaining]
     if scheduler is not None:
-        runner = _run_dask(model, remaining, spec, scheduler)
         where = "dask"
     elif n_workers == 1 or len(remaining) <= 1:
-        runner = _run_serial(model, remaining, spec)
         where = "serial"
     else:
-        runner = _run_pool(model, remaining, spec, min(n_workers, len(remaining)))
         where = f"{min(n_workers, len(remaining))} processes"
+    runner = run_tasks(_timed_slice, model, tasks, workers=n_workers, scheduler=scheduler)
     t_start = time.perf_counter()
     last_save = t_start
     cpu = 0.0
