@@ -54,7 +54,8 @@ def c_driver_times(model: TransientBrushTire, inputs: list[float], n_tires: int,
         exe = Path(d) / "core_step"
         subprocess.run([cc, *ccore.CORE_CFLAGS, "-I",
                         str(ccore.SOURCE_DIR), "-o", str(exe), str(HERE / "core_step.c"),
-                        str(ccore.SOURCE_DIR / "tirecore.c"), "-lm"], check=True)
+                        *(str(ccore.SOURCE_DIR / s) for s in ccore.SOURCES), "-lm"],
+                       check=True)
         blob = struct.pack("3i", t.log10_v.size, t.T.size, t.log10_p.size)
         for a in (t.log10_v, t.T, t.log10_p, t.values.reshape(-1), np.array([t.inv_s0])):
             blob += np.ascontiguousarray(a, dtype=np.float64).tobytes()

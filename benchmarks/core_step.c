@@ -4,13 +4,16 @@
  * binary file: int nv, nT, np; double log10_v[nv], T[nT], log10_p[np], values[nv*nT*np*3],
  * inv_s0; tf_params (as the struct); int n_warm, n_steps, n_tires; double in[TF_NIN], dt.
  * Prints the median and 90th percentile of the wall time per step [us] over n_steps steps,
- * each step advancing n_tires tires. */
+ * each step advancing n_tires tires. With a second argument, a real-time patch table
+ * (tire_brush.realtime.PatchTable.to_bytes), the tires step in the real-time fidelity
+ * (bench_realtime.py). */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
 
 #include "tirecore.h"
+#include "tirert.h"
 
 static double now(void) {
     struct timespec ts;
@@ -45,11 +48,34 @@ int main(int argc, char **argv) {
     fclose(f);
     tf_table *t = tf_table_new(n[0], n[1], n[2], ax[0], ax[1], ax[2], val, inv_s0);
     if (!t) return 3;
+    tf_patch *pt = NULL;
+    if (argc > 2) {                 /* the patch table: magic, 6 int32, doubles, 8-byte hash */
+        FILE *g = fopen(argv[2], "rb");
+        if (!g) return 2;
+        char magic[16];
+        int d[TF_PATCH_NAX];
+        if (fread(magic, 1, 16, g) != 16 || fread(d, sizeof(int), TF_PATCH_NAX, g) != TF_PATCH_NAX)
+            return 2;
+        size_t nax = 0, nn = 1;
+        for (int k = 0; k < TF_PATCH_NAX; k++) {
+            nax += (size_t)d[k];
+            nn *= (size_t)d[k];
+        }
+        size_t n0 = (size_t)d[0] * d[1] * d[2] * d[3] * 2;
+        size_t m = nax + (size_t)d[2] + n0 + TF_PATCH_NV * nn;
+        double *a = malloc(sizeof(double) * m);
+        if (!a || fread(a, sizeof(double), m, g) != m) return 2;
+        fclose(g);
+        pt = tf_patch_new(d, a, a + nax, a + nax + d[2], a + nax + d[2] + n0);
+        free(a);
+        if (!pt) return 3;
+    }
     int nt = cfg[2];
     tf_tire **tires = malloc(sizeof(tf_tire *) * nt);
     for (int i = 0; i < nt; i++) {
         tires[i] = tf_tire_new(&p, t);
         if (!tires[i]) return 3;
+        if (pt) tf_tire_set_patch(tires[i], pt);
     }
     double out[TF_NOUT];
     for (int k = 0; k < cfg[0]; k++)

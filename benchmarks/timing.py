@@ -106,18 +106,21 @@ def fmu_arguments(description: str, steps: int, warmup: int) -> argparse.Argumen
     return ap
 
 
-def fmu_under_test(args: argparse.Namespace, tmp: Path, native: bool) -> tuple[Path, str]:
+def fmu_under_test(args: argparse.Namespace, tmp: Path, native: bool,
+                   fidelity: str = "full") -> tuple[Path, str]:
     """The FMU named by ``--fmu``, or one built from ``--tire``/``--grid`` into ``tmp`` (the
-    native flavour for this platform, or the pythonfmu one), and its unzipped folder."""
+    native flavour for this platform, or the pythonfmu one; ``fidelity="realtime"`` packs the
+    real-time fidelity's table too), and its unzipped folder."""
     import fmpy
 
     if args.fmu:
         fmu = Path(args.fmu)
     elif native:
         from fmu_src.make.native_build import build_native_fmu
+        from fmu_src.make.stage import BuildOptions
 
         fmu = build_native_fmu(args.tire, args.grid, tmp / "BrushTireNative.fmu",
-                               platforms=("linux64",)).path
+                               BuildOptions(fidelity=fidelity), platforms=("linux64",)).path
     else:
         from fmu_src.make.build import build_fmu
 

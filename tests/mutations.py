@@ -120,6 +120,14 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
     ("thermal bound: ramp phase credits no distance", "tire_brush/braking/thermal_dp.py",
      "            if x[k] + rest > best:\n                best, t_best = x[k] + rest,",
      "            if rest > best:\n                best, t_best = rest,"),
+    # -- the real-time fidelity (tire_brush/csrc/tirert.c) ----------------------------------
+    ("real-time: the belt's yaw turns the patch's slip the wrong way",
+     "tire_brush/csrc/tirert.c", "h * ((Vsy - V_r * s->psi) - s->Vp[1])",
+     "h * ((Vsy + V_r * s->psi) - s->Vp[1])"),
+    ("real-time: the tread's heat from the friction power halved", "tire_brush/csrc/tirert.c",
+     "double Q = P * h;", "double Q = 0.5 * P * h;"),
+    ("real-time: no transit lag of the adhesion zone", "tire_brush/csrc/tirert.c",
+     "double tau = ((2.0 / 3.0) * a) * (1.0 - frac) / vr;", "double tau = 0.0;"),
     # -- tire core (tire_brush/csrc/tirecore.c, what the models and the FMU run) -------------
     ("tire core: eq. (28) with s0 halved", "tire_brush/csrc/tirecore.c",
      "    S.inv_s0 = t->inv_s0;\n", "    S.inv_s0 = 2.0 * t->inv_s0;\n"),

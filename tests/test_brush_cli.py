@@ -48,3 +48,27 @@ def test_curve_alpha_sweep_table_and_plot(tmp_path, capsys) -> None:
 def test_curve_input_errors(args, match, capsys) -> None:
     assert main([*BASE, *args]) == 2
     assert match in capsys.readouterr().err
+
+
+def test_curve_realtime_fidelity(tmp_path, monkeypatch, capsys) -> None:
+    """``--fidelity realtime``: the real-time tire settled at each slip (its table cached under
+    $TIREFRIC_CACHE; coarse axes here) agrees with the steady march within 2 % of Fz on a
+    constant friction (full sliding is exact in both: mu Fz)."""
+    from tire_brush import realtime_build
+
+    small = {"gamma": [0.0, 0.1], "T": [273.15, 313.15], "Fz": [2000.0, 4500.0, 7000.0],
+             "log10_v": np.log10([1.0, 10.0, 40.0]).tolist(),
+             "theta": np.radians([-90.0, -45.0, 0.0, 45.0, 90.0]).tolist(),
+             "rho": [0.0, 0.1, 0.2, 0.33, 0.5, 0.75, 1.0]}
+    monkeypatch.setattr(realtime_build, "default_axes", lambda T: {
+        k: np.asarray(v, float) for k, v in small.items()})
+    monkeypatch.setenv("TIREFRIC_CACHE", str(tmp_path))
+    args = [*BASE, "--grid", "constant:1.0", "--kappa=-0.3:-0.1:3", "--json"]
+    out = {}
+    for fid in ("full", "realtime"):
+        assert main([*args, "--fidelity", fid]) == 0
+        out[fid] = json.loads(capsys.readouterr().out)
+    assert out["realtime"]["fidelity"] == "realtime"
+    for a, b in zip(out["full"]["points"], out["realtime"]["points"], strict=True):
+        assert abs(a["Fx"] - b["Fx"]) < 0.02 * 4000.0
+    assert list(tmp_path.glob("patch-*.bin")), "the table is cached"

@@ -96,3 +96,38 @@ def test_fuzz_wet_build_under_sanitizers(wet_fmu_dir, tmp_path):
     unz, guid = wet_fmu_dir
     _run(unz, guid, _sanitized(unz, tmp_path / "asan_wet.so"), 10_000, 11, SANITIZERS,
          cpu=False)
+
+
+@pytest.fixture(scope="module")
+def rt_fmu_dir(tmp_path_factory):
+    """The native FMU built with the real-time fidelity's table (coarse axes) on the wet
+    reference road's grid: its parameter fidelity starts at 1, so the fuzz steps the real-time
+    fidelity through water, camber and My."""
+    import fmpy
+    from test_realtime import SMALL_AXES
+
+    from fmu_src.make.stage import BuildOptions
+
+    d = tmp_path_factory.mktemp("native_fuzz_rt")
+    axes = dict(SMALL_AXES, T=[253.15, 293.15, 333.15])
+    fmu = build_native_fmu("passenger", "r117_wet", d / "BrushTireRT.fmu",
+                           BuildOptions(fidelity="realtime", realtime_axes=axes),
+                           platforms=("linux64",)).path
+    unz = Path(fmpy.extract(str(fmu)))
+    assert (unz / "resources" / "tirefric-patch.bin").is_file()
+    return unz, fmpy.read_model_description(str(fmu)).guid
+
+
+def test_fuzz_short_realtime(rt_fmu_dir):
+    unz, guid = rt_fmu_dir
+    _run(unz, guid, unz / "binaries" / "linux64" / f"{MODEL_IDENTIFIER}.so", 5000, 2)
+
+
+@pytest.mark.slow
+def test_fuzz_realtime_under_sanitizers(rt_fmu_dir, tmp_path):
+    """The real-time fidelity with adversarial inputs, rollbacks and corrupt blobs, 1e5 steps
+    plain and 1e4 under ASan and UBSan."""
+    unz, guid = rt_fmu_dir
+    _run(unz, guid, unz / "binaries" / "linux64" / f"{MODEL_IDENTIFIER}.so", 100_000, 13)
+    _run(unz, guid, _sanitized(unz, tmp_path / "asan_rt.so"), 10_000, 17, SANITIZERS,
+         cpu=False)

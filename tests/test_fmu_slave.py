@@ -60,7 +60,7 @@ def test_interface_covers_every_tire_parameter():
 def test_every_real_has_a_known_unit_and_names_are_unique():
     tire = interface.tire_to_dict(load_tire("passenger"))
     opts = {"n_elements": 100, "dt_internal": 1e-3, "s0": 2e-4, "v_floor": 0.1, "axes": 0,
-            "texture_depth": 0.0}
+            "texture_depth": 0.0, "fidelity": 0}
     vs = interface.variables(tire, opts, LIMITS, dict.fromkeys(interface.INFO, "x"))
     names = [v.name for v in vs]
     assert len(names) == len(set(names)), "variable names must be unique"

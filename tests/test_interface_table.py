@@ -58,7 +58,7 @@ def _c_ints(text: str, name: str) -> list[int]:
 def _model_description_vars() -> list[ET.Element]:
     tire = interface.tire_to_dict(load_tire("passenger"))
     options = {"n_elements": 32, "dt_internal": 2.5e-4, "s0": 2e-4, "v_floor": 0.1,
-               "axes": 0, "texture_depth": 0.0}
+               "axes": 0, "texture_depth": 0.0, "fidelity": 0}
     info = dict.fromkeys(interface.INFO, "")
     vars_ = interface.variables(tire, options, interface.default_limits(load_tire("passenger")),
                                 info)
@@ -205,6 +205,16 @@ MIRRORED = {
     "WALK_MARGIN": element.WALK_MARGIN, "YAW_MAX_IT": element.YAW_MAX_IT,
     "STATE_HEAD": element.STATE_HEAD,
 }
+
+
+def test_realtime_constants_equal_their_mirror() -> None:
+    """The real-time fidelity's table layout (tirert.h) against tire_brush.realtime and the
+    binding."""
+    from tire_brush import realtime
+    d = _defines((ROOT / "tire_brush" / "csrc" / "tirert.h").read_text())
+    assert d["TF_PATCH_NV"] == realtime.N_VALUES == len(realtime.VALUE_NAMES)
+    assert d["TF_PATCH_NAX"] == len(realtime.AXIS_NAMES)
+    assert d["TF_PATCH_NOUT"] == ccore.PATCH_NOUT
 
 
 def test_core_constants_equal_their_mirror() -> None:

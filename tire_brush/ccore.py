@@ -40,7 +40,9 @@ from .signals import INPUT_NAMES, OUTPUT_NAMES
 #: Folder of the C sources.
 SOURCE_DIR = Path(__file__).with_name("csrc")
 #: C sources of the core, in link order.
-SOURCES = ("tirecore.c",)
+SOURCES = ("tirecore.c", "tirert.c")
+#: Headers of the core.
+HEADERS = ("tirecore.h", "tirert.h")
 #: Compiler flags of every build of the core (the package's install reads them from here,
 #: setup.py; the native FMU adds ``-shared``; benchmarks compiling the core use them too):
 #: C99, optimised, no contraction of multiply-adds and no fast-math (the Python reference
@@ -53,7 +55,7 @@ CFLAGS = (*CORE_CFLAGS, "-fPIC", "-shared")
 #: (``TF_STEADY_IN``, ``TF_STEADY_OUT``). tests/test_interface_table.py parses ``tirecore.h``
 #: and compares.
 N_IN, N_OUT = len(INPUT_NAMES), len(OUTPUT_NAMES)
-N_ELEM, STEADY_IN, STEADY_OUT = 7, 5, 8
+N_ELEM, STEADY_IN, STEADY_OUT = 7, 5, 10
 #: Work counters of a tire (``TF_NCOUNT``): sub-steps, stage solves, budget fallbacks.
 N_COUNT = 3
 
@@ -85,7 +87,7 @@ class Params(ctypes.Structure):
 
 def _sources_digest() -> str:
     h = hashlib.sha256()
-    for name in (*SOURCES, "tirecore.h"):
+    for name in (*SOURCES, *HEADERS):
         h.update((SOURCE_DIR / name).read_bytes())
     h.update(" ".join(CFLAGS).encode())
     h.update(sys.platform.encode())
@@ -199,6 +201,10 @@ def _declare(lib: ctypes.CDLL) -> None:
         "tf_tire_set_wet": (ctypes.c_int, [vp, vp, ctypes.c_double]),
         "tf_steady": (ctypes.c_int, [pp, vp, ctypes.c_int, ctypes.c_int, dp, ctypes.c_double,
                                      ctypes.c_double, dp]),
+        "tf_patch_new": (vp, [ctypes.POINTER(ctypes.c_int), dp, dp, dp, dp]),
+        "tf_patch_free": (None, [vp]),
+        "tf_patch_eval": (ctypes.c_int, [vp] + [ctypes.c_double] * 6 + [dp]),
+        "tf_tire_set_patch": (ctypes.c_int, [vp, vp]),
     }
     for name, (res, args) in sig.items():
         f = getattr(lib, name)
@@ -316,3 +322,41 @@ def core_table(table) -> CoreTable:
     ct = CoreTable(table.log10_v, table.T, table.log10_p, table.values, table.inv_s0)
     _TABLES[key] = (weakref.ref(table, lambda _r, k=key: _TABLES.pop(k, None)), ct)
     return ct
+
+
+#: Results of ``tf_patch_eval`` (``TF_PATCH_NOUT`` of tirert.h).
+PATCH_NOUT = 16
+
+
+class CorePatch:
+    """A patch table of the real-time fidelity in the core (``tf_patch``), owned by this
+    object (:class:`tire_brush.realtime.PatchTable`)."""
+
+    def __init__(self, table) -> None:
+        self._lib = load()
+        n = (ctypes.c_int * 6)(*(a.size for a in table.axes()))
+        axes = np.ascontiguousarray(np.concatenate(table.axes()), dtype=float)
+        vals = np.ascontiguousarray(table.values, dtype=float)
+        q = np.ascontiguousarray(table.q, dtype=float)
+        f0 = np.ascontiguousarray(table.f0, dtype=float)
+        self.handle = self._lib.tf_patch_new(n, _ptr(axes), _ptr(q), _ptr(f0), _ptr(vals))
+        if not self.handle:
+            raise CoreError("the tire core refused the patch table")
+        self._out = np.zeros(PATCH_NOUT)
+
+    def eval(self, Vx: float, Vy: float, Vr: float, Fz: float, T: float,
+             gamma: float) -> tuple[np.ndarray, int]:
+        """``tf_patch_eval``: the :data:`PATCH_NOUT` results and the flags."""
+        fl = self._lib.tf_patch_eval(self.handle, Vx, Vy, Vr, Fz, T, gamma, _ptr(self._out))
+        return self._out.copy(), int(fl)
+
+    def __del__(self) -> None:
+        h = getattr(self, "handle", None)
+        if h:
+            self._lib.tf_patch_free(h)
+            self.handle = None
+
+
+def core_patch(table) -> CorePatch:
+    """The core's copy of a :class:`tire_brush.realtime.PatchTable`."""
+    return CorePatch(table)

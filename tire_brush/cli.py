@@ -100,6 +100,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                                        "negative start: --kappa=-0.3:0:31")
     sweep.add_argument("--alpha-deg", help="slip-angle sweep A:B:N [deg] (slip 0); "
                                            "negative start: --alpha-deg=-10:10:21")
+    c.add_argument("--fidelity", choices=("full", "realtime"), default="full",
+                   help="'full' (default): the steady march of the tread elements; "
+                        "'realtime': the real-time fidelity held at each point until settled "
+                        "(its patch table is built once per tire and grid, about a minute on "
+                        "2 cores, then cached; docs/realtime.md)")
     c.add_argument("--n-elements", type=int, default=None,
                    help="cells along the patch (default: the steady model's default)")
     c.add_argument("--axes", choices=AXES, default=BRUSH_AXES,
@@ -141,10 +146,19 @@ def _run_curve(args: argparse.Namespace) -> int:
     n = N_STEADY if args.n_elements is None else args.n_elements
     tire = load_tire(args.tire)
     friction = load_friction(args.grid)
-    model = SteadyBrush(tire, friction, n_elements=n)
     # the slip angle is given in --axes; the brush works in its own convention
     alpha_brush = convert_inputs(SlipInputs(kappa, alpha, vx, 0.0), args.axes, BRUSH_AXES).alpha
-    out = model.solve(kappa, alpha_brush, vx, Fz, T_C + 273.15)
+    if args.fidelity == "realtime":
+        from types import SimpleNamespace
+
+        from .realtime_build import realtime_curve
+
+        out = SimpleNamespace(**realtime_curve(tire, friction, kappa, alpha_brush, vx, Fz,
+                                               T_C + 273.15))
+        out.kappa, out.alpha = kappa, alpha_brush
+    else:
+        out = SteadyBrush(tire, friction, n_elements=n).solve(kappa, alpha_brush, vx, Fz,
+                                                              T_C + 273.15)
     w = convert_wrench(Wrench(out.Fx, out.Fy, Fz, 0.0, 0.0, out.Mz), BRUSH_AXES, args.axes)
     values = {k: np.asarray(getattr(out, k)) for k in KEYS}
     values.update(alpha=np.broadcast_to(alpha, kappa.shape), Fx=np.asarray(w.Fx),
@@ -156,10 +170,10 @@ def _run_curve(args: argparse.Namespace) -> int:
     if args.json:
         dump_json({"tire": tire.name, "friction": friction.describe(), "Fz_N": Fz,
                    "vx_m_s": vx, "T_C": T_C, "n_elements": n, "axes": args.axes,
-                   "points": rows})
+                   "fidelity": args.fidelity, "points": rows})
     else:
         print(f"# tire {tire.name}, Fz = {Fz:g} N, vx = {vx:g} m/s, T = {T_C:g} C, "
-              f"{n} cells, axes {args.axes}")
+              f"{n} cells, axes {args.axes}, fidelity {args.fidelity}")
         print_table(rows, KEYS)
     return 0
 

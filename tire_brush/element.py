@@ -47,13 +47,16 @@ state (``F_n = k_c delta``, ``V_b = V_s``) is reproduced exactly whatever ``J``.
 is ``dt_internal``, shortened where the coupling needs it (:func:`outer_step`;
 docs/tire-core.md, "belt coupling at high rolling speed").
 
-This module imports only the standard library: it runs inside an FMU.
+This module imports only the standard library (and :mod:`tire_brush.realtime`, the real-time
+fidelity's sub-step, which imports numpy): it runs inside an FMU.
 """
 
 from __future__ import annotations
 
 import copy
 import math
+
+from .realtime import PatchEval, rt_advance
 
 #: SDIRK2 coefficient ``gamma = 1 - 1/sqrt(2)``.
 GAMMA = 0.2928932188134524
@@ -802,7 +805,7 @@ def _steady_march(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: floa
     the march's direction of travel; ``steady_march`` of the core): the outputs of
     :func:`steady_point` and the moment of the tread's stress on the belt [N m] (the friction
     moment less that of the momentum the tread carries through the patch)."""
-    out = [0.0] * 8
+    out = [0.0] * 10
     sgn = -1.0 if Vr < 0.0 else 1.0
     vr = abs(Vr) if abs(Vr) > V_ROLL_MIN else V_ROLL_MIN
     cf = flat_half_length(p, Fz, a, b)
@@ -810,15 +813,16 @@ def _steady_march(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: floa
     c = Ctx(p, t, T, Fz, a, b, cf, Fz / (2.0 * a * b * mean), mu_scale, Vsx, Vsy, vr)
     c.wpsi = wc
     e = [0.0, 0.0, Vsx, Vsy + a * wc, 0.0, 0.0, 1.0]
-    Jx = Jy = Jm = Jt = nsl = fsl = psl = dTm = steps = 0.0
+    Jx = Jy = Jm = Jt = nsl = fsl = psl = dTm = steps = work = 0.0
     x_prev = a
     # followed to the trailing edge; the forces are the friction impulse over the transit
     # times b V_r (the patch integral); the diagnostics are read at the cell midpoints
     for j in range(n_cells + 1):
         x = a * (1.0 - (2.0 * j + 1.0) / n_cells) if j < n_cells else -a
-        _, V, P, E, dT, pj, st, jx, jy, jm, jt = integrate(c, e, x, (x_prev - x) / vr)
+        en, V, P, E, dT, pj, st, jx, jy, jm, jt = integrate(c, e, x, (x_prev - x) / vr)
         x_prev = x
         steps += st
+        work += en
         Jx += jx
         Jy += jy
         Jm += jm
@@ -838,7 +842,9 @@ def _steady_march(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: floa
     out[5] = nsl / n_cells
     out[6] = dTm
     out[7] = steps
-    return out, Jt * b * vr * sgn
+    out[8] = work * b * vr
+    out[9] = Jt * b * vr * sgn
+    return out, out[9]
 
 
 #: Largest number of marches of the belt-yaw iteration of one steady point.
@@ -859,12 +865,14 @@ def steady_point(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: float
     Returns
     -------
     list
-        ``[Fx, Fy, Mz, mu_eff, mu_slide, sliding_fraction, dT_flash_max, sub-steps]``.
+        ``[Fx, Fy, Mz, mu_eff, mu_slide, sliding_fraction, dT_flash_max, sub-steps,
+        friction power, M_belt]``: the friction work on the road per unit time [W] and the
+        moment of the tread's stress on the belt [N m].
     """
     wc = -(1.0 - p.camber_reduction) * (abs(Vr) / p.R_e) * math.sin(gamma)
     a, b = patch_size(p, Fz)
     if not (a > 0.0 and b > 0.0):
-        return [0.0] * 8
+        return [0.0] * 10
     o, Mb = _steady_march(p, t, n_cells, Vsx, Vsy, Vr, Fz, a, b, T, mu_scale, wc)
     if p.rigid or Mb == 0.0:
         return o
@@ -963,6 +971,8 @@ class RefTire:
         self.texture_depth = 0.0
         self.scratch: RefTable | None = None
         self.wkey: tuple | None = None
+        #: the real-time fidelity's patch table (:mod:`tire_brush.realtime`), or None: full
+        self.patch: PatchEval | None = None
         self.reset(math.nan)
 
     def set_wet(self, w: RefWet | None, texture_depth: float = 0.0) -> None:
@@ -1332,8 +1342,10 @@ class RefTire:
                     rv = 1.0
                 Fz_road = (1.0 - sd * rv) * Fz
             a, b = patch_size(p, Fz_road)
-            # equal outer steps no longer than dt_internal and the coupling's limits
-            ns = math.ceil(dt / outer_step(p, V_r, a, b) - 1e-9)
+            # equal outer steps no longer than dt_internal and the coupling's limits (the
+            # real-time fidelity: no longer than dt_internal)
+            h_max = p.dt_internal if self.patch is not None else outer_step(p, V_r, a, b)
+            ns = math.ceil(dt / h_max - 1e-9)
             n_sub = int(ns) if ns > 1.0 else 1
             h = dt / n_sub
             if wet is not None and a > 0.0:   # drainage time: drain_scale t_footprint at
@@ -1349,8 +1361,13 @@ class RefTire:
             fin = [0.0]
             Ix = Iy = Im = 0.0
             for _ in range(n_sub):
-                fin = self._advance(h, vx - V_r, vy, V_r, Fz_road, a, b, Ts, mus, wc, q_roll,
-                                    d_water, lt_drain)
+                if self.patch is not None:
+                    fin = rt_advance(p, self.patch, self, h, vx - V_r, vy, V_r, Fz_road, a,
+                                     Ts, mus, gamma, q_roll)
+                    self.wc = wc
+                else:
+                    fin = self._advance(h, vx - V_r, vy, V_r, Fz_road, a, b, Ts, mus, wc,
+                                        q_roll, d_water, lt_drain)
                 Ix += fin[5]
                 Iy += fin[6]
                 Im += fin[7]

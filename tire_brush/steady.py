@@ -176,7 +176,7 @@ class SteadyBrush:
         if self.backend == "reference":
             out = np.array([steady_point(self._P, self._rtab, self.n_elements, *row[:4], T,
                                          mu_scale, row[4])
-                            for row in pts.tolist()]).reshape(n, 8)
+                            for row in pts.tolist()]).reshape(n, ccore.STEADY_OUT)
         else:
             out = np.zeros((n, ccore.STEADY_OUT))
             rc = self._lib.tf_steady(ctypes.byref(self._P), self._ctab.handle,
@@ -185,3 +185,33 @@ class SteadyBrush:
             if rc != 0:                               # inputs are checked above
                 raise InputError("the tire core refused the operating points", field="points")
         return out[:, :7].T.copy()
+
+    def patch_response(self, V_sx: Any, V_sy: Any, V_r: Any, Fz: Any, T: float,
+                       gamma: Any = 0.0, mu_scale: float = 1.0) -> np.ndarray:
+        """The march's results for points at one background temperature ``T`` [K]: rows
+        ``Fx, Fy, Mz, mu_eff, mu_slide, sliding_fraction, dT_flash_max, sub-steps, friction
+        power, M_belt`` (``tf_steady``'s outputs: the friction work on the road per unit time
+        [W], the moment of the tread's stress on the belt [N m]), one column per point of the
+        broadcast 1-d inputs. The real-time fidelity
+        (:mod:`tire_brush.realtime`) tabulates these."""
+        arrs = np.broadcast_arrays(*(np.atleast_1d(np.asarray(x, float))
+                                     for x in (V_sx, V_sy, V_r, Fz, gamma)))
+        for name, x in zip(("V_sx", "V_sy", "V_r", "Fz", "gamma"), arrs, strict=True):
+            _finite(name, x)
+        if not (np.isfinite(T) and T > 0):
+            raise InputError("temperature must be > 0 K", field="T", value=T)
+        if (np.abs(arrs[4]) >= np.pi / 2).any():
+            raise InputError("inclination angle must lie in (-pi/2, pi/2) rad", field="gamma",
+                             value=arrs[4].tolist())
+        pts = np.ascontiguousarray(np.stack([x.ravel() for x in arrs], axis=1), dtype=float)
+        n = pts.shape[0]
+        if self.backend == "reference":
+            return np.array([steady_point(self._P, self._rtab, self.n_elements, *row[:4], T,
+                                          mu_scale, row[4])
+                             for row in pts.tolist()]).reshape(n, ccore.STEADY_OUT).T.copy()
+        out = np.zeros((n, ccore.STEADY_OUT))
+        rc = self._lib.tf_steady(ctypes.byref(self._P), self._ctab.handle, self.n_elements, n,
+                                 ccore._ptr(pts), float(T), float(mu_scale), ccore._ptr(out))
+        if rc != 0:
+            raise InputError("the tire core refused the operating points", field="points")
+        return out.T.copy()

@@ -58,6 +58,7 @@ from .element import N_ELEM, STATE_HEAD, STATE_VERSION, RefTable, RefTire, RefWe
 from .friction import BranchTable, FrictionModel, as_table
 from .hydroplaning import D_FULL
 from .params import TireParams
+from .realtime import PatchEval, PatchTable
 from .signals import INPUT_NAMES
 from .slip import V_FLOOR, BrushOutputs
 
@@ -106,13 +107,18 @@ class TransientBrushTire:
         Speed floor of the reported slips [m/s].
     backend
         ``"c"`` (the compiled core) or ``"reference"`` (the same algorithm in Python).
+    patch
+        A :class:`~tire_brush.realtime.PatchTable` (built for these parameters and this
+        friction by :func:`tire_brush.realtime_build.build_patch_table`) selects the real-time
+        fidelity: the quasi-steady patch on the belt's dynamics (docs/realtime.md); None (the
+        default) the full one.
     """
 
     def __init__(self, params: TireParams, friction: FrictionModel | BranchTable | Any, *,
                  n_elements: int = N_TRANSIENT, dt_internal: float = DT_INTERNAL,
                  thermal: bool | None = None, rigid_carcass: bool | None = None,
                  massless: bool = False, tol: float = TOL, v_floor: float = V_FLOOR,
-                 backend: str = "c") -> None:
+                 backend: str = "c", patch: PatchTable | None = None) -> None:
         if isinstance(n_elements, bool) or not (isinstance(n_elements, int) and n_elements >= 2):
             raise InputError("must be an integer >= 2", field="n_elements", value=n_elements)
         for name, x in (("dt_internal", dt_internal), ("tol", tol), ("v_floor", v_floor)):
@@ -153,6 +159,17 @@ class TransientBrushTire:
             self._ref = RefTire(self._P, RefTable(t.log10_v, t.T, t.log10_p, t.values,
                                                   t.inv_s0))
             self.n_lattice = self._ref.L
+        self.patch = patch
+        self.fidelity = "full" if patch is None else "realtime"
+        if patch is not None:
+            if not isinstance(patch, PatchTable):
+                raise InputError("must be a tire_brush.realtime.PatchTable", field="patch",
+                                 value=type(patch).__name__)
+            if backend == "c":
+                self._cpatch = ccore.core_patch(patch)
+                self._lib.tf_tire_set_patch(self._h, self._cpatch.handle)
+            else:
+                self._ref.patch = PatchEval(patch)
         a_nom, _ = params.patch.size(params.Fz_nom)
         self.dx = 2.0 * a_nom / n_elements
         self.a_max, _ = params.patch.size(params.patch.Fz_max)

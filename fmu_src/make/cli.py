@@ -39,6 +39,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="start value of the texture_depth parameter, the road's mean texture "
                         "depth for the hydroplaning model: metres or e.g. '0.7 mm' (default "
                         "0: the texture holds no water)")
+    b.add_argument("--fidelity", choices=("full", "realtime"), default="full",
+                   help="'realtime' also packs the real-time fidelity's patch table (the "
+                        "steady patch of this tire on this grid, tabulated: built once per tire "
+                        "and grid, about a minute on 2 cores, then cached) and starts the FMU's "
+                        "fidelity parameter at 1; 'full' (default) the full tire only "
+                        "(docs/realtime.md)")
     b.add_argument("--native", action="store_true",
                    help="build the Python-free flavour: the C core with an FMI 2.0 wrapper "
                         "(binaries for linux64, and win64 where a cross-compiler is found: "
@@ -70,6 +76,7 @@ def _run_build(args: argparse.Namespace) -> int:
         from fmu_src.runtime.interface import AXES_OPTION
 
         kw["axes"] = AXES_OPTION.index(args.axes)
+    kw["fidelity"] = args.fidelity
     report = build_fmu(args.tire, args.grid, args.output, BuildOptions(**kw),
                        native=args.native)
     if args.json:

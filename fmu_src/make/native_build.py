@@ -82,16 +82,20 @@ TABLE_FILE = "tirefric-table.bin"
 ROLLING_TABLE_FILE = "tirefric-rolling.bin"
 #: Wet-branch resource (:func:`fmu_src.runtime.table_file.wet_bytes`; when the grid has one).
 WET_TABLE_FILE = "tirefric-wet.bin"
+#: The real-time fidelity's patch table (:meth:`tire_brush.realtime.PatchTable.to_bytes`; when
+#: built with ``fidelity="realtime"``).
+PATCH_TABLE_FILE = "tirefric-patch.bin"
 #: Compiler flags: the core's own (:data:`tire_brush.ccore.CORE_CFLAGS`: C99, no contraction,
 #: no fast-math, so the native FMU rounds as the Python model's core does), as a shared library.
 CFLAGS = (*ccore.CORE_CFLAGS, "-shared")
 #: C files compiled into the binary (under ``sources/`` in the FMU).
-C_SOURCES = ("fmu_wrapper.c", "tfn_model.c", "tfn_files.c", "tirecore.c")
+C_SOURCES = ("fmu_wrapper.c", "tfn_model.c", "tfn_files.c", "tirecore.c", "tirert.c")
 #: The wrapper's own files in :data:`NATIVE_DIR`: the FMI glue, the model callbacks, the
 #: resource readers and their internal header.
 WRAPPER_FILES = ("fmu_wrapper.c", "tfn_model.c", "tfn_files.c", "tfn_model.h")
 #: Headers shipped under ``sources/``.
-HEADERS = ("tirecore.h", "tfn_model.h", "tfn_config.h", "tfn_interface.h", "fmi2Functions.h",
+HEADERS = ("tirecore.h", "tirert.h", "tfn_model.h", "tfn_config.h", "tfn_interface.h",
+           "fmi2Functions.h",
            "fmi2FunctionTypes.h", "fmi2TypesPlatform.h")
 
 # -- tfn_config.h ------------------------------------------------------------------------------
@@ -161,7 +165,7 @@ def _param_assignments(index: dict[str, int]) -> list[str]:
 
 
 def config_header(vars_: list[Variable], guid: str, rolling: bool = False,
-                  wet: bool = False) -> str:
+                  wet: bool = False, patch: bool = False) -> str:
     """``tfn_config.h``: GUID, variable table (start values, bounds), value references of the
     variables the wrapper uses by name, and the parameter mapping onto ``tf_params``."""
     index = {v.name: i for i, v in enumerate(vars_)}
@@ -202,7 +206,7 @@ def config_header(vars_: list[Variable], guid: str, rolling: bool = False,
              "FZ_MAX": index["tire.patch.Fz_max"], "N_ELEMENTS": index["n_elements"],
              "DT_INTERNAL": index["dt_internal"], "S0": index["s0"],
              "V_FLOOR": index["v_floor"], "AXES": index["axes"],
-             "TEXTURE_DEPTH": index["texture_depth"]}
+             "TEXTURE_DEPTH": index["texture_depth"], "FIDELITY": index["fidelity"]}
     named |= {"LIMIT_" + k[6:].upper(): index[k] for k in LIMITS}
     defines = [f"#define TFN_VR_{k} {i}" for k, i in named.items()]
     return "\n".join([
@@ -216,6 +220,8 @@ def config_header(vars_: list[Variable], guid: str, rolling: bool = False,
         f"#define TFN_ROLLING_FILE {_c_string(ROLLING_TABLE_FILE)}",
         f"#define TFN_HAS_WET {int(bool(wet))}",
         f"#define TFN_WET_FILE {_c_string(WET_TABLE_FILE)}",
+        f"#define TFN_HAS_PATCH {int(bool(patch))}",
+        f"#define TFN_PATCH_FILE {_c_string(PATCH_TABLE_FILE)}",
         f"#define TFN_TOL {_c_double(TOL)}",
         f"#define TFN_NV {len(vars_)}",
         "enum { TFN_REAL, TFN_INTEGER, TFN_BOOLEAN, TFN_STRING };",
@@ -321,14 +327,15 @@ def compile_binary(sources: Path, platform: str, cc: list[str], out_dir: Path) -
 
 
 def stage_sources(directory: Path, vars_: list[Variable], guid: str,
-                  rolling: bool = False, wet: bool = False) -> dict[str, bytes]:
+                  rolling: bool = False, wet: bool = False,
+                  patch: bool = False) -> dict[str, bytes]:
     """Write the C sources, the FMI headers and the generated ``tfn_config.h`` and
     ``tfn_interface.h`` (:mod:`fmu_src.make.native_header`) into
     ``directory``; returns them by name."""
     files = {name: (NATIVE_DIR / name).read_bytes() for name in WRAPPER_FILES}
-    files |= {"tirecore.c": (ccore.SOURCE_DIR / "tirecore.c").read_bytes(),
-             "tirecore.h": (ccore.SOURCE_DIR / "tirecore.h").read_bytes(),
-             "tfn_config.h": config_header(vars_, guid, rolling, wet).encode(),
+    files |= {name: (ccore.SOURCE_DIR / name).read_bytes()
+              for name in (*ccore.SOURCES, *ccore.HEADERS)}
+    files |= {"tfn_config.h": config_header(vars_, guid, rolling, wet, patch).encode(),
              "tfn_interface.h": interface_header().encode()}
     for h in ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"):
         files[h] = (NATIVE_DIR / "fmi2" / h).read_bytes()
@@ -381,14 +388,16 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
                                 grid_source=grid_source)
         s0 = build["options"]["s0"]
         table = table_bytes(as_table(GridFriction(grid_o, s0=s0)))
-        rolling = wet = b""
+        rolling = wet = patch = b""
+        if build["realtime"]["file"]:
+            patch = (stage / "resources" / DATA_DIR / build["realtime"]["file"]).read_bytes()
         if build["rolling"]["file"]:
             rolling = (stage / "resources" / DATA_DIR / build["rolling"]["file"]).read_bytes()
         if build["wet"]["file"]:
             wet = (stage / "resources" / DATA_DIR / build["wet"]["file"]).read_bytes()
         h = hashlib.sha256(b"tirefric-native-fmu\0" + build["build_id"].encode() + table
-                           + rolling + wet)
-        for name in (*C_SOURCES, "tfn_model.h", "tirecore.h"):
+                           + rolling + wet + patch)
+        for name in (*C_SOURCES, "tfn_model.h", *ccore.HEADERS):
             src = NATIVE_DIR / name if name in WRAPPER_FILES else ccore.SOURCE_DIR / name
             h.update(name.encode() + b"\0" + src.read_bytes())
         h.update(" ".join(CFLAGS).encode())
@@ -406,7 +415,7 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
                 "info.build_id": build_id}
         vars_ = variables(build["tire"], build["options"], build["limits"], info)
         sources = stage_sources(stage / "sources", vars_, guid, rolling=bool(rolling),
-                                wet=bool(wet))
+                                wet=bool(wet), patch=bool(patch))
         bins = {p: compile_binary(stage / "sources", p, found[p], Path(tmp) / "bin")
                 for p in wanted}
         build["native"]["platforms"] = sorted(bins)
@@ -422,6 +431,10 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
             build["wet"]["file"] = None
             build["wet"]["table"] = WET_TABLE_FILE
             entries[f"resources/{WET_TABLE_FILE}"] = wet
+        if patch:
+            build["realtime"]["file"] = None
+            build["realtime"]["table"] = PATCH_TABLE_FILE
+            entries[f"resources/{PATCH_TABLE_FILE}"] = patch
         entries[f"resources/{DATA_DIR}/{BUILD_FILE}"] = json_bytes(build)
         entries |= {f"sources/{n}": b for n, b in sources.items()}
         entries["documentation/host_example.c"] = (NATIVE_DIR / "host_example.c").read_bytes()

@@ -16,6 +16,7 @@ import json
 import os
 import sys
 import tempfile
+import time
 import uuid
 import xml.etree.ElementTree as ET
 import zipfile
@@ -30,7 +31,14 @@ from fmu_src.runtime.interface import (
     default_limits,
     tire_to_dict,
 )
-from fmu_src.runtime.slave import BUILD_FILE, CORE_DIR, DATA_DIR, ROLLING_FILE, WET_FILE
+from fmu_src.runtime.slave import (
+    BUILD_FILE,
+    CORE_DIR,
+    DATA_DIR,
+    PATCH_FILE,
+    ROLLING_FILE,
+    WET_FILE,
+)
 from fmu_src.runtime.table_file import table_bytes, wet_bytes
 from tire_brush.params import TireParams, load_tire
 from tire_brush.slip import V_FLOOR
@@ -54,6 +62,10 @@ class BuildError(TirefricError):
     """The FMU could not be built, or the built FMU failed validation."""
 
 
+#: The fidelities of the tire (the FMU parameter ``fidelity`` is the index).
+FIDELITIES: tuple[str, ...] = ("full", "realtime")
+
+
 @dataclass(frozen=True)
 class BuildOptions:
     """Start values of the model options (FMU parameters; a master may change them).
@@ -74,6 +86,13 @@ class BuildOptions:
     texture_depth : float
         The road's mean texture depth [m] (hydroplaning; 0: the texture holds no water, the
         early bound).
+    fidelity : str
+        ``"full"``, or ``"realtime"``: the FMU also carries the real-time fidelity's patch
+        table (:mod:`tire_brush.realtime`; built from the steady march of this tire on this
+        grid, cached) and its parameter ``fidelity`` starts at 1 (docs/realtime.md).
+    realtime_axes : dict or None
+        Axes of the patch table by :data:`tire_brush.realtime.AXIS_NAMES` where they differ
+        from the defaults (coarser ones build faster and interpolate worse: docs/realtime.md).
     """
 
     n_elements: int = N_TRANSIENT
@@ -82,8 +101,13 @@ class BuildOptions:
     v_floor: float = V_FLOOR
     axes: int = 0
     texture_depth: float = 0.0
+    fidelity: str = "full"
+    realtime_axes: dict | None = None
 
     def __post_init__(self) -> None:
+        if self.fidelity not in FIDELITIES:
+            raise InputError(f"must be one of {FIDELITIES}", field="fidelity",
+                             value=self.fidelity)
         if not (isinstance(self.texture_depth, int | float) and
                 0 <= self.texture_depth < float("inf")):
             raise InputError("must be a finite length >= 0 m", field="texture_depth",
@@ -234,7 +258,7 @@ def _stage_core(data: Path) -> dict[str, Any]:
     blob = lib.read_bytes()
     target.write_bytes(blob)
     sources = {}
-    for name in (*ccore.SOURCES, "tirecore.h"):
+    for name in (*ccore.SOURCES, *ccore.HEADERS):
         text = (ccore.SOURCE_DIR / name).read_bytes()
         (data / CORE_DIR / "csrc").mkdir(parents=True, exist_ok=True)
         (data / CORE_DIR / "csrc" / name).write_bytes(text)
@@ -275,6 +299,10 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
     if wet_data:
         (data / WET_FILE).write_bytes(wet_data)
     s0 = float(grid.meta["s0_m"]) if options.s0 is None else float(options.s0)
+    patch_data, realtime = _patch_resource(tire, grid, s0, options.fidelity,
+                                           options.realtime_axes)
+    if patch_data:
+        (data / PATCH_FILE).write_bytes(patch_data)
     tire_d = tire_to_dict(tire)
     tire_d["file"] = Path(tire.source).name if tire.source else ""
     tirefric_version = __version__  # the one definition, also read by the packaging
@@ -296,13 +324,15 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
                  "meta": _grid_provenance(grid)},
         "options": {"n_elements": options.n_elements, "dt_internal": options.dt_internal,
                     "s0": s0, "v_floor": options.v_floor, "axes": options.axes,
-                    "texture_depth": options.texture_depth},
+                    "texture_depth": options.texture_depth,
+                    "fidelity": FIDELITIES.index(options.fidelity)},
         "limits": default_limits(tire),
         "rolling": rolling,
         "wet": wet,
+        "realtime": realtime,
         "requirements": list(REQUIREMENTS),
     }
-    h = hashlib.sha256(json_bytes(build) + npz + rolling_bytes + wet_data)
+    h = hashlib.sha256(json_bytes(build) + npz + rolling_bytes + wet_data + patch_data)
     if runtime is not None:
         build["runtime"] = {"package": runtime.package, "slave_module": runtime.slave_module,
                             "code_hash": runtime.code_hash, "modules": runtime.modules}
@@ -333,6 +363,25 @@ def _rolling_resource(tire: TireParams, grid: Any) -> tuple[bytes, dict[str, Any
     return data, {"file": ROLLING_FILE, "sha256": "sha256:" + hashlib.sha256(data).hexdigest(),
                   "compound": table.compound,
                   "model": "tire_brush.rolling_resistance (docs/rolling.md)"}
+
+
+def _patch_resource(tire: TireParams, grid: Any, s0: float, fidelity: str,
+                    axes: dict | None = None) -> tuple[bytes, dict[str, Any]]:
+    """The real-time fidelity's patch table file (empty bytes for a full-fidelity build) and
+    its entry in build.json: built from the steady march of this tire on the grid's friction
+    with the blend length ``s0`` (:func:`tire_brush.realtime_build.cached_patch_table`)."""
+    if fidelity != "realtime":
+        return b"", {"file": None}
+    from tire_brush.friction import GridFriction, as_table
+    from tire_brush.realtime_build import cached_patch_table
+
+    t0 = time.perf_counter()
+    table, path = cached_patch_table(tire, as_table(GridFriction(grid, s0=s0)), axes=axes)
+    data = path.read_bytes()
+    return data, {"file": PATCH_FILE, "sha256": "sha256:" + hashlib.sha256(data).hexdigest(),
+                  "key": table.key, "shape": list(table.values.shape),
+                  "seconds": round(time.perf_counter() - t0, 1),
+                  "model": "tire_brush.realtime (docs/realtime.md)"}
 
 
 def _wet_resource(grid: Any) -> tuple[bytes, dict[str, Any]]:

@@ -126,6 +126,12 @@ OPTIONS: dict[str, tuple[str, str | None, str]] = {
     "texture_depth": ("Real", "m", "Mean texture depth of the road [m]: the water it holds "
                                    "below the tire, which does not lift the tire "
                                    "(hydroplaning; used with water_depth > 0)"),
+    "fidelity": ("Integer", None, "0 the full tire (every tread element through the patch), 1 "
+                                  "the real-time fidelity (the steady patch tabulated at build "
+                                  "time on the belt's dynamics, docs/realtime.md; needs an FMU "
+                                  "built with --fidelity realtime, whose start value it is, and "
+                                  "the tire.patch, tire.tread, tire.R_e, "
+                                  "tire.carcass.camber_reduction and s0 it was built with)"),
 }
 
 #: The axis systems of the ``axes`` option, by value.
@@ -264,6 +270,16 @@ def tire_from_parameters(name: str, parameters: dict[str, Any], *, description: 
     built = {g: cls(**groups[g]) for g, cls in GROUPS.items()}
     return TireParams(name=name, description=description, provenance=provenance, **top,
                       **built)
+
+
+def realtime_parameters(names: Any) -> list[str]:
+    """The parameters among ``names`` that the real-time fidelity's patch table was built from
+    (the steady march's: the patch, the tread, the rolling radius and the camber reduction of
+    the base's spin, the blend length s0): at ``fidelity`` = 1 they must keep their start
+    values. The belt's stiffnesses and damping, the thermal parameters and the options run in
+    the fidelity's own dynamics and may change."""
+    return [n for n in names if n.startswith(("tire.patch.", "tire.tread.")) or
+            n in ("tire.R_e", "tire.carcass.camber_reduction", "s0")]
 
 
 def variables(tire: dict[str, Any], options: dict[str, Any],

@@ -71,6 +71,7 @@ try:
         TIRE_FIELDS,
         Variable,
         axis_signs,
+        realtime_parameters,
         tire_from_parameters,
         variables,
     )
@@ -78,6 +79,7 @@ try:
     from lookup.grid.reader import FrictionGrid
     from tire_brush import ccore
     from tire_brush.friction import GridFriction
+    from tire_brush.realtime import PatchTable
     from tire_brush.slip import BrushOutputs, slip_from_kinematics
     from tire_brush.transient import TransientBrushTire
 except ImportError as exc:      # numpy missing in the host's Python: say so at instantiation
@@ -99,6 +101,9 @@ ROLLING_FILE = "rolling.bin"
 #: Name of the wet branch inside :data:`DATA_DIR` (when the grid has one;
 #: :func:`fmu_src.runtime.table_file.wet_bytes`).
 WET_FILE = "wet.bin"
+#: Name of the real-time fidelity's patch table inside :data:`DATA_DIR` (when the build has
+#: one; :meth:`tire_brush.realtime.PatchTable.to_bytes`).
+PATCH_FILE = "patch.bin"
 #: Tag of the FMU state.
 STATE_FORMAT = "tirefric-brush-tire-fmu-state"
 #: Tag of a state blob that failed its checks (:meth:`BrushTireSlave._fmu_state_from_bytes`).
@@ -198,6 +203,10 @@ class BrushTireSlave(Fmi2Slave):
         self._rolling = _read_rolling(Path(self.resources) / DATA_DIR,
                                       build.get("rolling") or {})
         self._wet = _read_wet(Path(self.resources) / DATA_DIR, build.get("wet") or {})
+        patch = _resource(Path(self.resources) / DATA_DIR, build.get("realtime") or {},
+                          "real-time patch table")
+        # the checksum is the sha256 just checked; the FNV trailer is the native reader's
+        self._patch = None if patch is None else PatchTable.from_bytes(patch, verify=False)
         if self._grid.hash != build["grid"]["hash"]:
             raise ValueError(f"{grid_path}: grid hash {self._grid.hash} differs from the build's "
                              f"{build['grid']['hash']}")
@@ -329,10 +338,11 @@ class BrushTireSlave(Fmi2Slave):
         n_elements = p["n_elements"]
         if isinstance(n_elements, float) and n_elements.is_integer():
             n_elements = int(n_elements)
+        patch = self._realtime_patch(p)
         self._model = TransientBrushTire(tire, GridFriction(self._grid, s0=float(p["s0"])),
                                          n_elements=n_elements,
                                          dt_internal=float(p["dt_internal"]),
-                                         v_floor=float(p["v_floor"]))
+                                         v_floor=float(p["v_floor"]), patch=patch)
         if self._rolling is not None:
             self._model.set_rolling(self._rolling)
         if self._wet is not None:
@@ -349,6 +359,30 @@ class BrushTireSlave(Fmi2Slave):
             axes = int(axes)
         self._signs = axis_signs(axes)
         self._model_key = json.dumps(p, sort_keys=True)
+
+    def _realtime_patch(self, p: dict[str, Any]) -> Any:
+        """The patch table for parameter ``fidelity`` = 1 (None for 0).
+
+        Raises
+        ------
+        ValueError
+            ``fidelity`` is not 0 or 1, the FMU was built without the table, or a parameter
+            the table was built from differs from the value it was built with.
+        """
+        fid = p["fidelity"]
+        if fid not in (0, 1) or isinstance(fid, bool):
+            raise ValueError(f"fidelity = {fid!r} must be 0 (full) or 1 (real-time)")
+        if fid == 0:
+            return None
+        if self._patch is None:
+            raise ValueError("fidelity = 1 needs the real-time patch table, which this FMU "
+                             "was built without (tirefric fmu build --fidelity realtime)")
+        start = {v.name: v.start for v in self._vars if v.causality == "parameter"}
+        changed = [n for n in realtime_parameters(start) if p[n] != start[n]]
+        if changed:
+            raise ValueError(f"fidelity = 1: the patch table was built for the start values "
+                             f"of {', '.join(changed)} (rebuild the FMU for other values)")
+        return self._patch
 
     def _to_model(self, x: list[float]) -> list[float]:
         """Guarded inputs in the brush model's axes (``vy`` by the ``axes`` parameter)."""

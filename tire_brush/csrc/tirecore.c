@@ -7,6 +7,7 @@
  * the same IEEE results.
  */
 #include "tirecore.h"
+#include "tirert.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -60,6 +61,7 @@ struct tf_tire {
     double wc;             /* spin of the base from camber in the last step [rad/s] */
     const tf_table *rr;    /* rolling resistance (tf_tire_set_rolling), or NULL */
     const tf_wet *wet;     /* wet branch (tf_tire_set_wet), or NULL */
+    const tf_patch *patch; /* patch table of the real-time fidelity (tf_tire_set_patch), or NULL */
     double texture_depth;  /* the road's mean texture depth [m] */
     tf_table scratch;      /* the friction of the current water depth and drainage time: the
                               dry table's axes, its own values and bounds (rows wkey[2] and the
@@ -857,7 +859,7 @@ static double steady_march(const tf_params *p, const tf_table *t, int n_cells, d
     c.wpsi = wc;
     double e[TF_ELEM] = {0.0, 0.0, Vsx, Vsy + a * wc, 0.0, 0.0, 1.0};
     double Jx = 0.0, Jy = 0.0, Jm = 0.0, Jt = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
-    double steps = 0.0, x_prev = a;
+    double steps = 0.0, x_prev = a, work = 0.0;
     for (int j = 0; j <= n_cells; j++) {
         double x = j < n_cells ? a * (1.0 - (2.0 * j + 1.0) / n_cells) : -a;
         tf_eres r;
@@ -868,6 +870,7 @@ static double steady_march(const tf_params *p, const tf_table *t, int n_cells, d
         Jy += r.Jy;
         Jm += r.Jm;
         Jt += r.Jt;
+        work += r.energy;
         if (j < n_cells && r.V > CREEP_SPEED) {
             nsl += 1.0;
             fsl += r.P;
@@ -885,9 +888,11 @@ static double steady_march(const tf_params *p, const tf_table *t, int n_cells, d
     o[5] = nsl / n_cells;
     o[6] = dTm;
     o[7] = steps;
+    o[8] = work * b * vr;
     /* the moment of the tread's stress on the belt, which yaws it: the friction moment Mz
      * less the moment of the momentum the tread carries through the patch */
-    return Jt * b * vr * sgn;
+    o[9] = Jt * b * vr * sgn;
+    return o[9];
 }
 
 /* Largest number of marches of the belt-yaw iteration of one steady point. */
@@ -1007,6 +1012,12 @@ void tf_tire_reset(tf_tire *tire, double T_tread) {
 int tf_tire_set_rolling(tf_tire *tire, const tf_table *rr) {
     if (!tire) return -1;
     tire->rr = rr;
+    return 0;
+}
+
+int tf_tire_set_patch(tf_tire *tire, const tf_patch *pt) {
+    if (!tire) return -1;
+    tire->patch = pt;
     return 0;
 }
 
@@ -1534,8 +1545,10 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         }
         double a, b;
         patch_size(p, Fz_road, &a, &b);
-        /* equal outer steps no longer than dt_internal and the coupling's limits */
-        double ns = ceil(dt / outer_step(p, V_r, a, b) - 1e-9);
+        /* equal outer steps no longer than dt_internal and the coupling's limits (the
+         * real-time fidelity: no longer than dt_internal) */
+        double h_max = tire->patch ? p->dt_internal : outer_step(p, V_r, a, b);
+        double ns = ceil(dt / h_max - 1e-9);
         if (!(ns <= 2147483647.0)) return -1;     /* more outer steps than an int counts */
         int n_sub = ns > 1.0 ? (int)ns : 1;
         double h = dt / n_sub;
@@ -1554,12 +1567,38 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         double q_roll = share * f_r * Fz * fabs(V_r);
         double fin[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
         double Ix = 0.0, Iy = 0.0, Im = 0.0;
+        tf_rt_state rs;
+        if (tire->patch) {
+            memcpy(rs.delta, tire->delta, sizeof rs.delta);
+            memcpy(rs.Vp, tire->Vb, sizeof rs.Vp);
+            memcpy(rs.F, tire->F, sizeof rs.F);
+            rs.M = tire->M;
+            rs.psi = tire->psi;
+            rs.wpsi = tire->wpsi;
+            rs.T_tread = tire->T_tread;
+            rs.flags = 0;
+        }
         for (int k = 0; k < n_sub; k++) {
-            advance(tire, h, vx - V_r, vy, V_r, Fz_road, a, b, Ts, mus, wc, q_roll, d_water,
-                    lt_drain, fin);
+            if (tire->patch)
+                tf_rt_advance(p, tire->patch, &rs, h, vx - V_r, vy, V_r, Fz_road, a, Ts, mus,
+                              gam, q_roll, fin);
+            else
+                advance(tire, h, vx - V_r, vy, V_r, Fz_road, a, b, Ts, mus, wc, q_roll,
+                        d_water, lt_drain, fin);
             Ix += fin[5];
             Iy += fin[6];
             Im += fin[7];
+        }
+        if (tire->patch) {
+            memcpy(tire->delta, rs.delta, sizeof rs.delta);
+            memcpy(tire->Vb, rs.Vp, sizeof rs.Vp);
+            memcpy(tire->F, rs.F, sizeof rs.F);
+            tire->M = rs.M;
+            tire->psi = rs.psi;
+            tire->wpsi = rs.wpsi;
+            tire->wc = wc;
+            tire->T_tread = rs.T_tread;
+            tire->flags |= rs.flags;
         }
         tire->time += dt;
         double ref = fabs(vx) > p->v_floor ? fabs(vx) : p->v_floor;

@@ -49,12 +49,16 @@ extern "C" {
  * gamma [rad]. */
 #define TF_STEADY_IN 5
 /* Results of one steady point: Fx, Fy, Mz, mu_eff, mu_slide, sliding_fraction,
- * dT_flash_max, sub-steps taken. */
-#define TF_STEADY_OUT 8
+ * dT_flash_max, sub-steps taken, friction power [W] (the friction work on the road per unit
+ * time: the heat of the patch, of which heat_fraction enters the tread), the moment of the
+ * tread's stress on the belt [N m] (Mz less the moment of the momentum the tread carries
+ * through the patch; it yaws the belt). */
+#define TF_STEADY_OUT 10
 
 typedef struct tf_table tf_table;
 typedef struct tf_wet tf_wet;
 typedef struct tf_tire tf_tire;
+typedef struct tf_patch tf_patch;
 
 /* Tire parameters, SI units (tire_brush/params.py documents each field). */
 typedef struct {
@@ -134,6 +138,14 @@ TF_API int tf_tire_set_rolling(tf_tire *tire, const tf_table *rr);
  * depth [m] (the water it holds, hydroplaning); the branch must have the nodes of the tire's
  * friction table and outlive the tire. Returns 0 or -1. */
 TF_API int tf_tire_set_wet(tf_tire *tire, const tf_wet *w, double texture_depth);
+/* Fidelity (docs/realtime.md): with a patch table (tirert.h; NULL: the full model again) the
+ * tire steps in the real-time fidelity: the patch quasi-steady, read from the table, on the
+ * belt's translation and yaw with the tread's transit lag, the same tread temperature, outputs,
+ * flags and state vector (its lattice unused; the belt slip velocity slots hold the patch's
+ * slip velocity). Sub-steps no longer than dt_internal. The wet branch is not read in this
+ * fidelity (hydroplaning's lift of the load is). The table must outlive the tire. Returns 0
+ * or -1. */
+TF_API int tf_tire_set_patch(tf_tire *tire, const tf_patch *pt);
 /* Lattice size, doubles in the state, and the state itself (copy out / in). */
 TF_API int tf_tire_lattice(const tf_tire *tire);
 TF_API int tf_tire_state_size(const tf_tire *tire);

@@ -74,11 +74,12 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     if (!c) return NULL;
     *c = tmp;
     if (load_table(c, path) != 0 || load_rolling(c, resourceLocation) != 0 ||
-        load_wet(c, resourceLocation) != 0) {
+        load_wet(c, resourceLocation) != 0 || load_patch(c, resourceLocation) != 0) {
         free(c->axes);
         free(c->values);
         if (c->rr) tf_table_free(c->rr);
         if (c->wet) tf_wet_free(c->wet);
+        if (c->patch) tf_patch_free(c->patch);
         free(c);
         return NULL;
     }
@@ -94,6 +95,7 @@ void fmi2FreeInstance(fmi2Component comp_) {
     if (c->table) tf_table_free(c->table);
     if (c->rr) tf_table_free(c->rr);
     if (c->wet) tf_wet_free(c->wet);
+    if (c->patch) tf_patch_free(c->patch);
     free(c->axes);
     free(c->values);
     free(c->buf);

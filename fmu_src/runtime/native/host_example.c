@@ -6,9 +6,12 @@
  *
  *   cc -std=c99 -O2 -I <unzipped FMU>/sources host_example.c -o host -ldl -lm
  *   ./host <unzipped FMU>/binaries/linux64/BrushTireNative.so \
- *          file://<unzipped FMU>/resources '<guid from modelDescription.xml>' 1000 4 [h]
+ *          file://<unzipped FMU>/resources '<guid from modelDescription.xml>' 1000 4 [h [vr k]]
  *
- * (optional h: the communication step [s], default 1e-3; h = 0 times the wrapper alone).
+ * (optional h: the communication step [s], default 1e-3; h = 0 times the wrapper alone;
+ * optional vr k: set the Integer parameter of value reference vr to k before initialisation,
+ * e.g. the parameter fidelity: 1 the real-time fidelity, the start value of an FMU built with
+ * `tirefric fmu build --native --fidelity realtime`, 0 the full tire).
  * Output: "Fx Fy Mz" of tire 0 after the last step (%.17g), then
  * "median_us <median of one doStep> mean_us <mean> rtf <real-time factor of all tires>".
  * Value references: inputs vx..mu_scale 0..5, outputs Fx..T_tread 6..15
@@ -59,7 +62,7 @@ int main(int argc, char **argv) {
     if (!lib) { fprintf(stderr, "dlopen: %s\n", dlerror()); return 2; }
     LOAD(fmi2Instantiate) LOAD(fmi2SetupExperiment) LOAD(fmi2EnterInitializationMode)
     LOAD(fmi2ExitInitializationMode) LOAD(fmi2SetReal) LOAD(fmi2GetReal) LOAD(fmi2DoStep)
-    LOAD(fmi2Terminate) LOAD(fmi2FreeInstance)
+    LOAD(fmi2SetInteger) LOAD(fmi2Terminate) LOAD(fmi2FreeInstance)
     int steps = atoi(argv[4]), n = argc > 5 ? atoi(argv[5]) : 1;
     if (steps < 1 || n < 1 || n > 64) return 1;
     fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
@@ -71,9 +74,14 @@ int main(int argc, char **argv) {
                                HOST_LOGGING);
         if (!c[i]) return 3;
         if (fmi2SetupExperiment(c[i], fmi2False, 0.0, 0.0, fmi2False, 0.0) != fmi2OK ||
-            fmi2EnterInitializationMode(c[i]) != fmi2OK ||
-            fmi2ExitInitializationMode(c[i]) != fmi2OK)
+            fmi2EnterInitializationMode(c[i]) != fmi2OK)
             return 4;
+        if (argc > 8) {
+            const fmi2ValueReference vr = (fmi2ValueReference)atol(argv[7]);
+            const fmi2Integer k = atoi(argv[8]);
+            if (fmi2SetInteger(c[i], &vr, 1, &k) != fmi2OK) return 4;
+        }
+        if (fmi2ExitInitializationMode(c[i]) != fmi2OK) return 4;
     }
     /* value references of modelDescription.xml: inputs 0-7, the 12 Real outputs 8-19 */
     const fmi2ValueReference vin[8] = {0, 1, 2, 3, 4, 5, 6, 7};

@@ -80,6 +80,30 @@ static int check_params(comp *c, const double *v) {
         logf_(c, fmi2Error, "n_elements = %g must be >= 2", v[TFN_VR_N_ELEMENTS]);
         bad++;
     }
+    if (!(v[TFN_VR_FIDELITY] == 0.0 || v[TFN_VR_FIDELITY] == 1.0)) {
+        logf_(c, fmi2Error, "fidelity = %g must be 0 (full) or 1 (real-time)",
+              v[TFN_VR_FIDELITY]);
+        bad++;
+    } else if (v[TFN_VR_FIDELITY] == 1.0) {
+        if (!c->patch) {
+            logf_(c, fmi2Error, "fidelity = 1 needs the real-time patch table, which this FMU "
+                  "was built without (tirefric fmu build --fidelity realtime)");
+            bad++;
+        }
+        /* the table was built from the steady march at these parameters' start values
+         * (fmu_src.runtime.interface.realtime_parameters) */
+        for (int i = 0; i < TFN_NV; i++) {
+            const char *nm = TFN_VARS[i].name;
+            int fixed = strncmp(nm, "tire.patch.", 11) == 0 || strncmp(nm, "tire.tread.", 11) == 0
+                        || strcmp(nm, "tire.R_e") == 0 ||
+                        strcmp(nm, "tire.carcass.camber_reduction") == 0 || strcmp(nm, "s0") == 0;
+            if (fixed && TFN_VARS[i].causality == TFN_PARAMETER && v[i] != TFN_VARS[i].start) {
+                logf_(c, fmi2Error, "fidelity = 1: the patch table was built for %s = %g, not "
+                      "%g (rebuild the FMU for other values)", nm, TFN_VARS[i].start, v[i]);
+                bad++;
+            }
+        }
+    }
     if (inverse_blend_length(v[TFN_VR_S0]) < 0.0) {
         logf_(c, fmi2Error, "s0 = %g must be >= 0 m (inf allowed)", v[TFN_VR_S0]);
         bad++;
@@ -112,6 +136,7 @@ int make_core(comp *c, const double *v, tf_table **tab, tf_tire **tire) {
         return -1;
     }
     tf_tire_set_rolling(*tire, c->rr);
+    if (v[TFN_VR_FIDELITY] == 1.0) tf_tire_set_patch(*tire, c->patch);
     if (c->wet && tf_tire_set_wet(*tire, c->wet, v[TFN_VR_TEXTURE_DEPTH]) != 0) {
         tf_tire_free(*tire);
         tf_table_free(*tab);

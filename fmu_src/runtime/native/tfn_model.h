@@ -16,6 +16,7 @@
 
 #include "fmi2Functions.h"
 #include "tirecore.h"
+#include "tirert.h"
 #include "tfn_config.h"
 #include "tfn_interface.h"
 
@@ -57,6 +58,7 @@ typedef struct {
     tf_table *table;
     tf_table *rr;              /* rolling-resistance table (NULL: none in this build) */
     tf_wet *wet;               /* wet branch of the grid (NULL: none in this build) */
+    tf_patch *patch;           /* the real-time fidelity's patch table (NULL: none) */
     tf_tire *tire;
     double built[TFN_NV];      /* values the tire was built from (parameters compared) */
     double *buf;               /* core state scratch */
@@ -73,6 +75,7 @@ int resource_path(const char *loc, const char *file, char *out, size_t n);
 int load_table(comp *c, const char *path);
 int load_wet(comp *c, const char *loc);
 int load_rolling(comp *c, const char *loc);
+int load_patch(comp *c, const char *loc);
 
 /* -- the model (tfn_model.c) --------------------------------------------------------------- */
 int make_core(comp *c, const double *v, tf_table **tab, tf_tire **tire);

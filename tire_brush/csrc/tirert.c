@@ -1,0 +1,343 @@
+/*
+ * tirert.c: the real-time fidelity of the tire (tirert.h; method in docs/realtime.md).
+ *
+ * Every floating-point operation here is mirrored, in the same order, by the Python reference
+ * tire_brush/realtime.py (PatchEval, rt_advance); the tests pin the two to each other. Built
+ * with the core's flags (no contraction of multiply-adds, no fast-math).
+ */
+#include "tirert.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct tf_patch {
+    int n[TF_PATCH_NAX];
+    double *ax[TF_PATCH_NAX];
+    size_t stride[TF_PATCH_NAX];   /* in doubles, the value index innermost */
+    double *val;
+    double *q;                     /* full-sliding slip share at the load nodes */
+    double *f0;                    /* force at zero slip over Fz, (gamma, T, Fz, v, 2) */
+    double vmin;                   /* 10^(first speed node) [m/s] */
+};
+
+tf_patch *tf_patch_new(const int *n, const double *axes, const double *q, const double *f0,
+                       const double *values) {
+    if (!n || !axes || !q || !f0 || !values) return NULL;
+    size_t nax = 0, nn = 1;
+    for (int k = 0; k < TF_PATCH_NAX; k++) {
+        if (n[k] < 2 || n[k] > 100000) return NULL;
+        nax += (size_t)n[k];
+        nn *= (size_t)n[k];
+    }
+    const double *a = axes;
+    for (int k = 0; k < TF_PATCH_NAX; k++) {
+        for (int i = 0; i < n[k]; i++)
+            if (!isfinite(a[i]) || (i > 0 && !(a[i] > a[i - 1]))) return NULL;
+        a += n[k];
+    }
+    const double *g = axes, *th = axes + nax - n[5] - n[4], *rho = axes + nax - n[5];
+    if (g[0] != 0.0 || rho[0] != 0.0 || rho[n[5] - 1] != 1.0 ||
+        !(th[0] >= -1.5707963267948977) || !(th[n[4] - 1] <= 1.5707963267948977))
+        return NULL;
+    for (size_t i = 0; i < nn * TF_PATCH_NV; i++)
+        if (!isfinite(values[i])) return NULL;
+    for (int i = 0; i < n[2]; i++)
+        if (!(q[i] > 0.0 && q[i] < 1.0)) return NULL;
+    size_t n0 = (size_t)n[0] * n[1] * n[2] * n[3] * 2;
+    for (size_t i = 0; i < n0; i++)
+        if (!isfinite(f0[i])) return NULL;
+    tf_patch *pt = calloc(1, sizeof *pt);
+    if (!pt) return NULL;
+    pt->ax[0] = malloc(sizeof(double) * nax);
+    pt->val = malloc(sizeof(double) * nn * TF_PATCH_NV);
+    pt->q = malloc(sizeof(double) * (size_t)n[2]);
+    pt->f0 = malloc(sizeof(double) * n0);
+    if (!pt->ax[0] || !pt->val || !pt->q || !pt->f0) {
+        free(pt->ax[0]);
+        free(pt->val);
+        free(pt->q);
+        free(pt->f0);
+        free(pt);
+        return NULL;
+    }
+    memcpy(pt->ax[0], axes, sizeof(double) * nax);
+    memcpy(pt->q, q, sizeof(double) * (size_t)n[2]);
+    memcpy(pt->f0, f0, sizeof(double) * n0);
+    memcpy(pt->val, values, sizeof(double) * nn * TF_PATCH_NV);
+    for (int k = 0; k < TF_PATCH_NAX; k++) {
+        pt->n[k] = n[k];
+        if (k > 0) pt->ax[k] = pt->ax[k - 1] + n[k - 1];
+    }
+    size_t st = TF_PATCH_NV;
+    for (int k = TF_PATCH_NAX - 1; k >= 0; k--) {
+        pt->stride[k] = st;
+        st *= (size_t)n[k];
+    }
+    pt->vmin = pow(10.0, pt->ax[3][0]);
+    return pt;
+}
+
+void tf_patch_free(tf_patch *pt) {
+    if (!pt) return;
+    free(pt->ax[0]);
+    free(pt->val);
+    free(pt->q);
+    free(pt->f0);
+    free(pt);
+}
+
+/* Cell i and weight f of x on an ascending axis, clamped to its ends; inv = 1 / (a[i+1] -
+ * a[i]) inside, 0 where clamped (the derivative there is 0). */
+static void locate_ax(int n, const double *a, double x, int *i, double *f, double *inv) {
+    if (!(x > a[0])) { *i = 0; *f = 0.0; *inv = 0.0; return; }
+    if (!(x < a[n - 1])) { *i = n - 2; *f = 1.0; *inv = 0.0; return; }
+    int j = 0;
+    while (a[j + 1] <= x) j++;
+    *i = j;
+    *inv = 1.0 / (a[j + 1] - a[j]);
+    *f = (x - a[j]) * *inv;
+}
+
+int tf_patch_eval(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz, double T,
+                  double gamma, double *out) {
+    double sx = Vx < 0.0 ? -1.0 : 1.0;
+    double sg = gamma < 0.0 ? -1.0 : 1.0;
+    double sv = Vr < 0.0 ? -1.0 : 1.0;
+    double ax_ = fabs(Vx);
+    double vy = Vy * sg;
+    double s = sqrt(ax_ * ax_ + vy * vy);
+    double vr = fabs(Vr);
+    double vref = s + vr;
+    double den = vref > pt->vmin ? vref : pt->vmin;
+    double rho = s / den;
+    double drho = vref > pt->vmin ? vr / (den * den) : 1.0 / den;
+    double theta = s > 0.0 ? atan2(vy, ax_) : 0.0;
+    double ux = 1.0, uy = 0.0;
+    if (s > 0.0) {
+        ux = ax_ / s;
+        uy = vy / s;
+    }
+    int li[TF_PATCH_NAX];
+    double lf[TF_PATCH_NAX], linv[TF_PATCH_NAX];
+    /* the slip share on the load's own scale (tirert.h) */
+    locate_ax(pt->n[2], pt->ax[2], Fz, &li[2], &lf[2], &linv[2]);
+    double qs = pt->q[li[2]] + lf[2] * (pt->q[li[2] + 1] - pt->q[li[2]]);
+    double D = rho + qs * (1.0 - rho);
+    double rn = rho / D;
+    drho = drho * (qs / (D * D));
+    double xs[TF_PATCH_NAX] = {fabs(gamma), T, Fz, log10(den), theta, rn};
+    for (int k = 0; k < TF_PATCH_NAX; k++)
+        locate_ax(pt->n[k], pt->ax[k], xs[k], &li[k], &lf[k], &linv[k]);
+    const double *Tax = pt->ax[1];
+    int flags = (T >= Tax[0] && T <= Tax[pt->n[1] - 1]) ? 0 : TF_FLAG_T_RANGE;
+    double acc[TF_PATCH_NV] = {0.0}, dr[4] = {0.0}, dth[4] = {0.0};
+    size_t base = 0;
+    for (int k = 0; k < TF_PATCH_NAX; k++) base += (size_t)li[k] * pt->stride[k];
+    /* the outer (gamma, T, Fz, v) cell's first node in the zero-slip force array */
+    size_t ob = (((size_t)li[0] * pt->n[1] + li[1]) * pt->n[2] + li[2]) * pt->n[3] + li[3];
+    double g0x = 0.0, g0y = 0.0;
+    double ft = lf[4], fr = lf[5];
+    /* the 16 outer corners (gamma, T, Fz, v), each with its 2 x 2 (theta, rho) cell */
+    for (int c = 0; c < 16; c++) {
+        double w = 1.0;
+        size_t off = base;
+        for (int k = 0; k < 4; k++) {
+            int bit = (c >> (3 - k)) & 1;
+            double f = lf[k];
+            w *= bit ? f : 1.0 - f;
+            off += (size_t)bit * pt->stride[k];
+        }
+        if (w == 0.0) continue;
+        size_t o0 = 2 * (ob + (off - base) / pt->stride[3]);
+        g0x += w * pt->f0[o0];
+        g0y += w * pt->f0[o0 + 1];
+        const double *v00 = pt->val + off, *v01 = v00 + pt->stride[5];
+        const double *v10 = v00 + pt->stride[4], *v11 = v10 + pt->stride[5];
+        for (int q = 0; q < TF_PATCH_NV; q++) {
+            double a00 = v00[q], a01 = v01[q], a10 = v10[q], a11 = v11[q];
+            double lo = a00 + fr * (a01 - a00);
+            double hi = a10 + fr * (a11 - a10);
+            acc[q] += w * (lo + ft * (hi - lo));
+            if (q < 4) {
+                dr[q] += w * ((a01 - a00) + ft * ((a11 - a10) - (a01 - a00)));
+                dth[q] += w * (hi - lo);
+            }
+        }
+    }
+    for (int q = 0; q < 4; q++) {
+        dr[q] *= linv[5];
+        dth[q] *= linv[4];
+    }
+    double fa = acc[0], fc = acc[1], mz = acc[2], mb = acc[3];
+    /* the force in the folded frame: -f_along along the slip, f_across across it */
+    double nx = -uy, ny = ux;
+    double Fxf = Fz * (g0x + (-fa * ux + fc * nx));
+    double Fyf = Fz * (g0y + (-fa * uy + fc * ny));
+    /* derivatives by the folded velocity (|Vx|, sg Vy); the turn of the slip's direction is
+     * taken over at least half the first slip-share cell */
+    double r1 = pt->ax[5][1];
+    double s1 = 0.5 * ((r1 * qs) / (1.0 - r1 * (1.0 - qs))) * den;
+    double se = s > s1 ? s : s1;
+    double J[8];
+    for (int j = 0; j < 2; j++) {
+        double sj = j == 0 ? ux : uy;
+        double nj = j == 0 ? nx : ny;
+        double dfa = dr[0] * drho * sj + dth[0] * nj / se;
+        double dfc = dr[1] * drho * sj + dth[1] * nj / se;
+        double dmz = dr[2] * drho * sj + dth[2] * nj / se;
+        double dmb = dr[3] * drho * sj + dth[3] * nj / se;
+        J[j] = Fz * (-dfa * ux + dfc * nx - fa * nx * nj / se - fc * ux * nj / se);
+        J[2 + j] = Fz * (-dfa * uy + dfc * ny - fa * ny * nj / se - fc * uy * nj / se);
+        J[4 + j] = Fz * dmz;
+        J[6 + j] = Fz * dmb;
+    }
+    out[0] = sx * Fxf;
+    out[1] = sg * Fyf;
+    out[2] = sg * sv * (Fz * mz);
+    out[3] = sg * sv * (Fz * mb);
+    /* unfold: d/dVx = sx d/d|Vx|, d/dVy = sg d/d(sg Vy) */
+    out[4] = J[0];
+    out[5] = sx * sg * J[1];
+    out[6] = sg * sx * J[2];
+    out[7] = J[3];
+    out[8] = sg * sv * sx * J[4];
+    out[9] = sv * J[5];
+    out[10] = sg * sv * sx * J[6];
+    out[11] = sv * J[7];
+    out[12] = acc[4];
+    out[13] = acc[5];
+    out[14] = acc[6];
+    out[15] = acc[7] * Fz * vref;
+    return flags;
+}
+
+/* One sub-step h of the real-time fidelity (docs/realtime.md): belt translation and yaw and
+ * the patch's slip velocity together by linearly implicit Euler (the patch's forces linearised
+ * about the sub-step's start with the table's derivatives), the tread temperature by implicit
+ * Euler. fin as the full model's outer step. */
+void tf_rt_advance(const tf_params *p, const tf_patch *pt, tf_rt_state *s, double h,
+                   double Vsx, double Vsy, double V_r, double Fz, double a, double Ts,
+                   double mus, double gam, double q_roll, double *fin) {
+    for (int k = 0; k < 8; k++) fin[k] = 0.0;
+    int rigid = p->rigid != 0;
+    if (!(Fz > 0.0 && a > 0.0) || !(mus > 1e-6)) {
+        /* no contact (or no friction): the belt relaxes on its dampers, as the full model's */
+        if (!rigid) {
+            s->delta[0] *= p->dc_x / (p->kc_x * h + p->dc_x);
+            s->delta[1] *= p->dc_y / (p->kc_y * h + p->dc_y);
+            s->psi *= p->dc_psi / (p->kc_psi * h + p->dc_psi);
+        }
+        s->Vp[0] = Vsx;
+        s->Vp[1] = Vsy - V_r * s->psi;
+        s->wpsi = 0.0;
+        s->F[0] = s->F[1] = 0.0;
+        s->M = 0.0;
+        if (p->thermal)
+            s->T_tread = (s->T_tread + h / p->heat_capacity * (p->conductance * Ts)) /
+                         (1.0 + h * p->conductance / p->heat_capacity);
+        return;
+    }
+    double T0 = p->thermal ? s->T_tread : Ts;
+    /* the patch at the sub-step's start; a friction scale by the similarity method (Pacejka
+     * 2012, ch. 4): the patch at mu_scale and slip V responds as mu_scale times the patch at 1
+     * and V / mu_scale (sliding speeds and friction power scale once more) */
+    double ims = 1.0 / mus;
+    double o[TF_PATCH_NOUT];
+    s->flags |= tf_patch_eval(pt, s->Vp[0] * ims, s->Vp[1] * ims, V_r, Fz, T0, gam, o);
+    double F0x = mus * o[0], F0y = mus * o[1], Mz0 = mus * o[2], M0 = mus * o[3];
+    double J[8];
+    memcpy(J, o + 4, sizeof J);
+    double frac = o[13];
+    if (frac > 1.0) frac = 1.0;
+    if (!(frac > 0.0)) frac = 0.0;
+    double vr = fabs(V_r);
+    if (vr < pt->vmin) vr = pt->vmin;
+    /* the tread's lag: the transit of the adhesion zone (the mean delay 2a/3 of the brush's
+     * linear response to a step of slip, docs/realtime.md), and at least the tip's own response
+     * time sqrt(m / k) (a sliding patch is still a tread of massive tips on springs in series
+     * with the belt: without it a falling friction would close an algebraic loop through the
+     * massless belt) */
+    double tau = ((2.0 / 3.0) * a) * (1.0 - frac) / vr;
+    double kmax = p->k_x > p->k_y ? p->k_x : p->k_y;
+    double tau_tip = sqrt(p->mass / kmax);
+    if (tau < tau_tip) tau = tau_tip;
+    if (!rigid) {
+        /* where the patch's force falls with its slip (J_xx or J_yy > 0: a falling friction),
+         * the loop patch -> massless belt -> patch is stable only while J < d_c + k_c tau; the
+         * lag is made long enough for twice the slope (the full model stick-slips there, its
+         * mean is what the table holds; docs/realtime.md) */
+        double t_x = (2.0 * J[0] - p->dc_x) / p->kc_x;
+        double t_y = (2.0 * J[3] - p->dc_y) / p->kc_y;
+        if (tau < t_x) tau = t_x;
+        if (tau < t_y) tau = t_y;
+    }
+    double t_ = tau + h;
+    double iAx = 0.0, iAy = 0.0, iB = 0.0, kcx = 0.0, kcy = 0.0, kps = 0.0;
+    if (!rigid) {
+        iAx = 1.0 / (p->kc_x + p->dc_x / h);
+        iAy = 1.0 / (p->kc_y + p->dc_y / h);
+        iB = 1.0 / (p->kc_psi + p->dc_psi / h);
+        kcx = p->kc_x;
+        kcy = p->kc_y;
+        kps = p->kc_psi;
+    }
+    double hv = h * V_r * iB;
+    double m11 = t_ - J[0] * iAx;
+    double m12 = -J[1] * iAx;
+    double m21 = -J[2] * iAy + hv * J[6];
+    double m22 = t_ - J[3] * iAy + hv * J[7];
+    double r1 = h * (Vsx - s->Vp[0]) + (F0x - kcx * s->delta[0]) * iAx;
+    double r2 = h * ((Vsy - V_r * s->psi) - s->Vp[1]) + (F0y - kcy * s->delta[1]) * iAy -
+                hv * (M0 - kps * s->psi);
+    double det = m11 * m22 - m12 * m21;
+    if (!(det > 0.25 * t_ * t_)) {
+        /* the linearisation would not be a contraction here: the patch's force held over the
+         * sub-step (explicit in the force, implicit in the belt) */
+        for (int k = 0; k < 8; k++) J[k] = 0.0;
+        m11 = m22 = t_;
+        m12 = m21 = 0.0;
+        det = t_ * t_;
+    }
+    double dVx = (r1 * m22 - m12 * r2) / det;
+    double dVy = (m11 * r2 - m21 * r1) / det;
+    double Fx = F0x + (J[0] * dVx + J[1] * dVy);
+    double Fy = F0y + (J[2] * dVx + J[3] * dVy);
+    double Mz = Mz0 + (J[4] * dVx + J[5] * dVy);
+    double Mb = M0 + (J[6] * dVx + J[7] * dVy);
+    double ddx = 0.0, ddy = 0.0;
+    if (!rigid) {
+        ddx = (Fx - kcx * s->delta[0]) * iAx;
+        ddy = (Fy - kcy * s->delta[1]) * iAy;
+        s->delta[0] += ddx;
+        s->delta[1] += ddy;
+        double dpsi = (Mb - kps * s->psi) * iB;
+        s->psi += dpsi;
+        s->wpsi = dpsi / h;
+    }
+    s->Vp[0] += dVx;
+    s->Vp[1] += dVy;
+    s->F[0] = Fx;
+    s->F[1] = Fy;
+    s->M = Mb;
+    if (p->thermal) {
+        /* the patch's friction heat, at most the work the belt does on the patch (its force
+         * on the belt's slip velocity, Vs + d(delta)/dt - V_r psi): while the patch's slip
+         * lags the belt's the table's power at it could exceed what the belt delivers */
+        double P = (mus * mus) * o[15];
+        double Pb = -(Fx * (Vsx + ddx / h) + Fy * ((Vsy + ddy / h) - V_r * s->psi));
+        if (!(Pb > 0.0)) Pb = 0.0;
+        if (P > Pb) P = Pb;
+        double Q = P * h;
+        s->T_tread = (s->T_tread + (p->heat_fraction * Q + h * q_roll +
+                                    h * p->conductance * Ts) / p->heat_capacity) /
+                     (1.0 + h * p->conductance / p->heat_capacity);
+    }
+    fin[0] = 1.0;
+    fin[2] = o[13];
+    fin[3] = mus * o[12];
+    fin[4] = (mus * mus) * o[14];
+    fin[5] = h * Fx;
+    fin[6] = h * Fy;
+    fin[7] = h * Mz;
+}

@@ -1,0 +1,239 @@
+"""Build-time side of the real-time fidelity: the steady patch response tabulated
+(:class:`tire_brush.realtime.PatchTable`) from the steady march of the full model
+(:meth:`tire_brush.steady.SteadyBrush.patch_response`, ``tf_steady``), so that the table follows
+the full model's physics whatever it becomes (docs/realtime.md)."""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import os
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from tirefric.errors import InputError
+
+from .friction import as_table
+from .realtime import (
+    AXIS_NAMES,
+    GAMMA_NODES,
+    LOAD_NODES,
+    N_VALUES,
+    RHO_NODES,
+    SPEED_NODES,
+    T_STEP,
+    THETA_NODES,
+    PatchTable,
+)
+from .steady import N_STEADY, TOL, SteadyBrush
+
+
+def default_axes(friction_T: np.ndarray) -> dict[str, np.ndarray]:
+    """Default axes for a friction table whose temperature axis is ``friction_T`` [K]: the
+    nodes above, and temperatures every :data:`T_STEP` over the friction's range (its ends
+    included)."""
+    lo, hi = float(friction_T[0]), float(friction_T[-1])
+    n = max(2, math.ceil((hi - lo) / T_STEP - 1e-9) + 1)
+    return {"gamma": np.array(GAMMA_NODES), "T": np.linspace(lo, hi, n),
+            "Fz": np.array(LOAD_NODES), "log10_v": np.log10(SPEED_NODES),
+            "theta": np.array(THETA_NODES), "rho": np.array(RHO_NODES)}
+
+
+def table_key(params: Any, table: Any, axes: dict[str, np.ndarray], n_cells: int,
+              tol: float) -> str:
+    """Hash of what a patch table depends on: the tire parameters, the friction table's axes,
+    values and blend length, the axes and the march's settings."""
+    h = hashlib.sha256()
+    h.update(repr(params).encode())
+    for a in (table.log10_v, table.T, table.log10_p, table.values):
+        h.update(np.ascontiguousarray(a, float).tobytes())
+    h.update(repr(float(table.inv_s0)).encode())
+    for name in AXIS_NAMES:
+        h.update(np.ascontiguousarray(axes[name], float).tobytes())
+    h.update(repr((n_cells, tol, "rho_n = rho / (rho + q (1 - rho))", "f0")).encode())
+    return h.hexdigest()
+
+
+def _layer(args: tuple) -> tuple[np.ndarray, np.ndarray]:
+    """One (gamma, T) layer of the table (a worker's job): the march at every (Fz, v, theta,
+    rho) node with theta >= 0, or every theta when gamma > 0; and the force at zero slip (of
+    the camber alone) at every (Fz, v), which the slip's-frame values leave out."""
+    params, friction, n_cells, tol, g, T, Fz_ax, lv_ax, th_ax, rho_ax = args
+    sb = SteadyBrush(params, friction, n_elements=n_cells, tol=tol, rigid_carcass=True)
+    F, LV, TH, RN = np.meshgrid(Fz_ax, lv_ax, th_ax, rho_ax, indexing="ij")
+    q = np.interp(F, Fz_ax, full_sliding_share(params, Fz_ax))
+    RHO = RN * q / (1.0 - RN * (1.0 - q))          # the inverse of rho_n (realtime.py)
+    vref = 10.0 ** LV
+    s = RHO * vref
+    Vr = vref - s
+    Vsx = s * np.cos(TH)
+    Vsy = s * np.sin(TH)
+    out = np.zeros((*F.shape, N_VALUES))
+    todo = (RHO > 0.0) | (g > 0.0)
+    if g == 0.0:
+        todo &= TH >= 0.0
+    sel = np.flatnonzero(todo.ravel())
+    r = sb.patch_response(Vsx.ravel()[sel], Vsy.ravel()[sel], Vr.ravel()[sel],
+                          F.ravel()[sel], float(T), gamma=float(g))
+    Fx, Fy, Mz, _, mu_sl, frac, dT, _, P, Mb = r
+    f0 = np.zeros((Fz_ax.size, lv_ax.size, 2))
+    if g > 0.0:
+        # zero slip: the camber's force, the same at every theta (rho = 0 rows)
+        full = np.zeros((*F.shape, 2))
+        full.reshape(-1, 2)[sel] = np.stack([Fx, Fy], axis=1)
+        f0 = full[:, :, 0, 0, :] / Fz_ax[:, None, None]
+        iF, iv = np.unravel_index(sel, F.shape)[:2]
+        Fx = Fx - f0[iF, iv, 0] * Fz_ax[iF]
+        Fy = Fy - f0[iF, iv, 1] * Fz_ax[iF]
+    th = TH.ravel()[sel]
+    c, sn = np.cos(th), np.sin(th)
+    Fzs = F.ravel()[sel]
+    vals = np.stack([-(Fx * c + Fy * sn) / Fzs, (-Fx * sn + Fy * c) / Fzs, Mz / Fzs, Mb / Fzs,
+                     mu_sl, frac, dT, P / (Fzs * vref.ravel()[sel])], axis=1)
+    flat = out.reshape(-1, N_VALUES)
+    flat[sel] = vals
+    if g == 0.0:
+        # (V_y, gamma) -> (-V_y, -gamma) mirrors the patch: Fx, mu_slide, sliding fraction,
+        # flash temperature and power are even, Fy and Mz odd; in the slip's frame the force
+        # along is even and the force across odd in theta, as is Mz
+        nth = th_ax.size
+        for j in range(nth):
+            if th_ax[j] < 0.0:
+                jm = int(np.argmin(np.abs(th_ax + th_ax[j])))
+                if abs(th_ax[jm] + th_ax[j]) > 1e-12:
+                    raise InputError("theta nodes must be symmetric about 0",
+                                     field="patch_table.theta", value=th_ax.tolist())
+                out[:, :, j] = out[:, :, jm]
+                out[:, :, j, :, 1:4] *= -1.0
+    return out, f0
+
+
+def full_sliding_share(params: Any, Fz: Any) -> np.ndarray:
+    """The slip share ``q = 3 Fz / C`` at which a brush of friction 1 slides over the whole
+    patch (Pacejka 2012, ch. 3: the massless brush's full-sliding slip ``3 mu Fz / C``), with
+    its slip stiffness ``C = 2 k_x b a^2`` at the load (``a``, ``b`` of the patch law); at
+    most 0.9. The real-time table reads the slip share on this scale
+    (:mod:`tire_brush.realtime`)."""
+    out = []
+    for F in np.atleast_1d(np.asarray(Fz, float)).tolist():
+        a, b = params.patch.size(F)
+        C = 2.0 * params.tread.k_x * b * a * a
+        out.append(min(3.0 * F / C, 0.9) if C > 0 else 0.9)
+    return np.array(out)
+
+
+def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None = None,
+                      n_cells: int | None = None, tol: float | None = None,
+                      processes: int = 1) -> PatchTable:
+    """Tabulate the steady patch response for the real-time fidelity (module docstring).
+
+    Parameters
+    ----------
+    params
+        :class:`~tire_brush.params.TireParams`.
+    friction
+        What :class:`~tire_brush.steady.SteadyBrush` takes (a grid, a branch table).
+    axes
+        Axes by :data:`AXIS_NAMES` (default :func:`default_axes`).
+    n_cells, tol
+        The march's settings (default those of :mod:`tire_brush.steady`).
+    processes
+        Worker processes (layers of (gamma, T) run in parallel).
+    """
+    table = as_table(friction)
+    n_cells = N_STEADY if n_cells is None else n_cells
+    tol = TOL if tol is None else tol
+    ax = default_axes(np.asarray(table.T, float))
+    if axes:
+        for k, v in axes.items():
+            if k not in AXIS_NAMES:
+                raise InputError(f"unknown axis (one of {AXIS_NAMES})", field="axes", value=k)
+            ax[k] = np.asarray(v, float)
+    jobs = [(params, table, n_cells, tol, float(g), float(T), ax["Fz"], ax["log10_v"],
+             ax["theta"], ax["rho"]) for g in ax["gamma"] for T in ax["T"]]
+    if processes > 1:
+        import multiprocessing as mp
+        with mp.get_context("fork").Pool(processes) as pool:
+            layers = pool.map(_layer, jobs, chunksize=1)
+    else:
+        layers = [_layer(j) for j in jobs]
+    lead = (ax["gamma"].size, ax["T"].size)
+    vals = np.stack([v for v, _ in layers]).reshape((*lead, *layers[0][0].shape))
+    f0 = np.stack([f for _, f in layers]).reshape((*lead, *layers[0][1].shape))
+    return PatchTable(ax["gamma"], ax["T"], ax["Fz"], ax["log10_v"], ax["theta"], ax["rho"],
+                      full_sliding_share(params, ax["Fz"]), f0, vals,
+                      key=table_key(params, table, ax, n_cells, tol))
+
+
+def cache_dir() -> Path:
+    """Folder of cached patch tables (``$TIREFRIC_CACHE``, default ``~/.cache/tirefric``)."""
+    return Path(os.environ.get("TIREFRIC_CACHE", Path.home() / ".cache" / "tirefric"))
+
+
+def cached_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None = None,
+                       processes: int = 2,
+                       directory: str | Path | None = None) -> tuple[PatchTable, Path]:
+    """:func:`build_patch_table` at the default march settings (and the default axes, or those
+    of ``axes`` given), cached on disk by :func:`table_key` (the tire parameters, the friction
+    table, the axes and settings): a table is built once per tire, grid and axes. Returns the
+    table and its file (:meth:`~tire_brush.realtime.PatchTable.to_bytes`' format)."""
+    table = as_table(friction)
+    ax = default_axes(np.asarray(table.T, float))
+    for k, v in (axes or {}).items():
+        if k not in AXIS_NAMES:
+            raise InputError(f"unknown axis (one of {AXIS_NAMES})", field="axes", value=k)
+        ax[k] = np.asarray(v, float)
+    key = table_key(params, table, ax, N_STEADY, TOL)
+    d = Path(directory) if directory is not None else cache_dir()
+    path = d / f"patch-{key[:24]}.bin"
+    if path.is_file():
+        try:
+            return PatchTable.from_bytes(path.read_bytes(), key=key, verify=False), path
+        except InputError:
+            pass                                    # a damaged cache file: build again
+    pt = build_patch_table(params, table, axes=ax, processes=processes)
+    d.mkdir(parents=True, exist_ok=True)
+    with tempfile.NamedTemporaryFile(dir=d, delete=False, suffix=".tmp") as f:
+        f.write(pt.to_bytes())
+    os.replace(f.name, path)
+    return pt, path
+
+
+def settled(tire: Any, kappa: float, alpha: float, vx: float, Fz: float, T: float, *,
+            gamma: float = 0.0, dt: float = 1e-3, distance: float = 6.0,
+            tail: int = 50) -> list[float]:
+    """The outputs of a transient tire (either fidelity) held at slip ``kappa``, slip angle
+    ``alpha`` [rad], speed ``vx`` [m/s], load ``Fz`` [N], temperature ``T`` [K] and
+    inclination ``gamma`` [rad] from rest until it has rolled ``distance`` [m] (at least 0.3
+    s): the mean of the last ``tail`` steps' outputs (:data:`tire_brush.signals.OUTPUTS`)."""
+    tire.reset()
+    R = tire.params.R_e
+    omega = vx * (1.0 + kappa) / R
+    vy = -vx * math.tan(alpha)
+    n = max(int(0.3 / dt), int(distance / (vx * dt)), tail)
+    acc = []
+    for k in range(n):
+        o = tire.step_array(dt, vx, vy, omega, Fz, T, 1.0, gamma)
+        if k >= n - tail:
+            acc.append(o)
+    return np.mean(acc, axis=0).tolist()
+
+
+def realtime_curve(params: Any, friction: Any, kappa: Any, alpha: Any, vx: float, Fz: float,
+                   T: float) -> dict[str, np.ndarray]:
+    """The steady state of the real-time fidelity (thermal state off, as the steady model)
+    at each (kappa, alpha) [1, rad]: the tire held until settled (:func:`settled`) on the
+    cached patch table of this tire and friction; outputs by name."""
+    from .signals import OUTPUT_NAMES
+    from .transient import TransientBrushTire
+
+    table, _ = cached_patch_table(params, friction)
+    tire = TransientBrushTire(params, friction, patch=table, thermal=False)
+    k, a = np.broadcast_arrays(np.asarray(kappa, float), np.asarray(alpha, float))
+    rows = [settled(tire, float(x), float(y), vx, Fz, T) for x, y in zip(k.ravel(), a.ravel(),
+                                                                        strict=True)]
+    arr = np.array(rows).reshape((*k.shape, len(OUTPUT_NAMES)))
+    return {n: arr[..., i] for i, n in enumerate(OUTPUT_NAMES)}
