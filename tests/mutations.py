@@ -101,10 +101,12 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
     # -- FMU unit definitions (fmu_src/) ------------------------------------------------------
     ("FMU degC display offset sign", "fmu_src/runtime/interface.py",
      '"K": (("degC", 1.0, -273.15),),', '"K": (("degC", 1.0, 273.15),),'),
-    ("FMU rad/s base-unit exponent", "fmu_src/runtime/interface.py",
-     '"rad/s": {"rad": 1, "s": -1},', '"rad/s": {"rad": 1, "s": 1},'),
-    ("FMU N.m base-unit exponent", "fmu_src/runtime/interface.py",
-     '"N.m": {"kg": 1, "m": 2, "s": -2},', '"N.m": {"kg": 1, "m": 1, "s": -2},'),
+    ("FMU rad/s base-unit exponent", "tirefric/units.py",
+     '"angular_frequency": ("rad/s", {"rad": 1, "s": -1}),',
+     '"angular_frequency": ("rad/s", {"rad": 1, "s": 1}),'),
+    ("FMU N.m base-unit exponent", "tirefric/units.py",
+     '"moment": ("N.m", {"kg": 1, "m": 2, "s": -2}),',
+     '"moment": ("N.m", {"kg": 1, "m": 1, "s": -2}),'),
     ("FMU state error outside the TirefricError hierarchy", "fmu_src/runtime/state.py",
      "class StateFormatError(TirefricError, ValueError):", "class StateFormatError(ValueError):"),
     # -- tire and braking (tire_brush/) -------------------------------------------------------
