@@ -126,6 +126,21 @@ def _dask_call(func: Callable[..., Any], shared: Any, args: tuple[Any, ...]) -> 
     return func(shared, *args)
 
 
+def pool_size(n_tasks: int, workers: int, scheduler: Any = None) -> int:
+    """Where :func:`run_tasks` runs ``n_tasks`` tasks: 0 on a Dask scheduler, 1 in this
+    process, else the number of local processes."""
+    if scheduler is not None:
+        return 0
+    return 1 if workers <= 1 or n_tasks <= 1 else min(workers, n_tasks)
+
+
+def pool_label(n_tasks: int, workers: int, scheduler: Any = None) -> str:
+    """:func:`pool_size` in words, for progress bars and reports: ``"dask"``, ``"serial"``
+    or ``"N processes"``."""
+    n = pool_size(n_tasks, workers, scheduler)
+    return {0: "dask", 1: "serial"}.get(n, f"{n} processes")
+
+
 def run_tasks(func: Callable[..., Any], shared: Any, tasks: list[tuple[Any, ...]], *,
               workers: int = 1, scheduler: Any = None) -> Iterator[Any]:
     """Run ``func(shared, *task)`` for every task and yield the results as they finish.
@@ -145,13 +160,14 @@ def run_tasks(func: Callable[..., Any], shared: Any, tasks: list[tuple[Any, ...]
     Closing the iterator early (an interruption, an exception in the consumer) drops the
     queued tasks and lets the running ones end; nothing half-done is yielded.
     """
-    if scheduler is not None:
+    n = pool_size(len(tasks), workers, scheduler)
+    if n == 0:
         yield from _run_dask(func, shared, tasks, scheduler)
-    elif workers <= 1 or len(tasks) <= 1:
+    elif n == 1:
         for args in tasks:
             yield func(shared, *args)
     else:
-        yield from _run_pool(func, shared, tasks, min(workers, len(tasks)))
+        yield from _run_pool(func, shared, tasks, n)
 
 
 def _run_pool(func: Callable[..., Any], shared: Any, tasks: list[tuple[Any, ...]],
@@ -398,12 +414,7 @@ def build_grid(
     n_workers = 1 if scheduler is None and workers == 1 else (
         workers or os.cpu_count() or 1)
     tasks = [(iv, float(spec.v[iv]), spec.T, spec.p) for iv in remaining]
-    if scheduler is not None:
-        where = "dask"
-    elif n_workers == 1 or len(remaining) <= 1:
-        where = "serial"
-    else:
-        where = f"{min(n_workers, len(remaining))} processes"
+    where = pool_label(len(remaining), n_workers, scheduler)
     runner = run_tasks(_timed_slice, model, tasks, workers=n_workers, scheduler=scheduler)
     t_start = time.perf_counter()
     last_save = t_start

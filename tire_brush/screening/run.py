@@ -87,7 +87,7 @@ def run_screen(spec: ScreenSpec | str | Path, out: str | Path, *, workers: int =
     """
     from tqdm.auto import tqdm
 
-    from lookup.grid.build import run_tasks
+    from lookup.grid.build import pool_label, run_tasks
 
     if not isinstance(spec, ScreenSpec):
         spec = load_screen_spec(spec)
@@ -100,24 +100,21 @@ def run_screen(spec: ScreenSpec | str | Path, out: str | Path, *, workers: int =
     settings = screen_settings(spec, keep=str(out / "work") if keep_grids else None)
     sdesc = settings.describe()
     store = ResultStore(out)
-    descs = spec.compounds()
-    jobs = [("compound", d, compound_key(d, sdesc)) for d in descs]
-    ref_desc = spec.reference()
-    jobs.append(("reference", ref_desc, compound_key(ref_desc, sdesc, "reference")))
-    done = {k: r for _, _, k in jobs if (r := store.get(k)) is not None}
-    todo = [j for j in jobs if j[2] not in done]
     # the reference first (every wet grip index needs it), then the compounds in order
-    todo.sort(key=lambda j: j[0] != "reference")
+    ref_desc = spec.reference()
+    ref_key = compound_key(ref_desc, sdesc, "reference")
+    jobs = [("reference", ref_desc, ref_key)]
+    jobs += [("compound", d, compound_key(d, sdesc)) for d in spec.compounds()]
+    done = {key: r for _, _, key in jobs if (r := store.get(key)) is not None}
+    todo = [(kind, d, key) for kind, d, key in jobs if key not in done]
     t0 = time.perf_counter()
-    where = "dask" if scheduler is not None else (
-        "serial" if workers == 1 else f"{min(workers, max(len(todo), 1))} processes")
+    where = pool_label(len(todo), workers, scheduler)
     bar = tqdm(total=len(jobs), initial=len(done), unit="compound", disable=not progress,
                desc=f"screen {spec.name} ({where})", dynamic_ncols=True)
     computed: list[str] = []
     cost: list[float] = []
     try:
-        for rec in run_tasks(run_task, settings, [(k, d, key) for k, d, key in todo],
-                             workers=workers, scheduler=scheduler):
+        for rec in run_tasks(run_task, settings, todo, workers=workers, scheduler=scheduler):
             store.put(rec)
             done[rec["key"]] = rec
             computed.append(rec["key"])
@@ -132,7 +129,7 @@ def run_screen(spec: ScreenSpec | str | Path, out: str | Path, *, workers: int =
         bar.close()
     wall = time.perf_counter() - t0
     records = [done[k] for kind, _, k in jobs if kind == "compound"]
-    reference = done[jobs[-1][2]]
+    reference = done[ref_key]
     result = ScreenResult(spec, out, records, reference, computed,
                           [k for _, _, k in jobs if k not in computed], wall,
                           1 if scheduler is None and workers == 1 else workers, where=where)
