@@ -58,9 +58,10 @@ speed and the film, falling with tread depth, texture depth and inflation. Galla
 were ribbed passenger tires and his fit has no void term: the groove volume enters only in
 Horne's flooded lift above, and the load lifted is the larger of the two,
 L = max(L_p, L_Horne) (:func:`load_lift`; on the shipped tires and roads L_p is the larger at
-every depth tried). Limits: Gallaway's data cover films of about 0.5-10 mm (0.02-0.4 in);
-the R117 test's 0.3 mm film above a 0.7 mm texture is an extrapolation, and its spin-down
-criterion marks the onset of hydroplaning, which this law takes as full lift.
+every depth tried). Limits: Gallaway's speeds come from a spin-down trailer in a
+hydroplaning trough (the report's abstract), i.e. standing water; the R117 test's 0.3 mm
+film above a 0.7 mm texture is far thinner, and the spin-down criterion marks where the
+free-rolling wheel loses its drive, which this law takes as full lift.
 
 Status: measured on the shipped tires (docs/physics.md sec. 7a) this law lifts far too much
 on the R117 test's 1 mm: the reference tire's trailer peak at 65 km/h falls out of the
