@@ -205,7 +205,7 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
      "tire_brush/csrc/tirecore.c",
      "double rv = (vx / Vp) * (vx / Vp);", "double rv = fabs(vx / Vp);"),
     ("partial lift linear in speed (Horne & Dreher's dynamic pressure: quadratic)",
-     "tire_brush/hydroplaning.py", "out[idx] = min(r * r, 1.0)", "out[idx] = min(r, 1.0)"),
+     "tire_brush/hydroplaning.py", "np.minimum(r * r, 1.0), 0.0)", "np.minimum(r, 1.0), 0.0)"),
     ("Gallaway's texture term with the exponent's sign flipped",
      "tire_brush/hydroplaning.py", "math.pow(txd / _IN, 0.14)", "math.pow(txd / _IN, -0.14)"),
     ("partial lift on the whole water depth, not the film above the texture",

@@ -168,16 +168,14 @@ def gallaway_speed(water_film: float, p_inflation: float, tread_depth: float,
             raise InputError("out of range", field=name, value=val)
     if water_film <= 0.0:
         return math.inf
-    return _gallaway(water_film, p_inflation, tread_depth, texture_depth, spin_down)
+    return float(_gallaway(water_film, p_inflation, tread_depth, texture_depth, spin_down))
 
 
 def _gallaway(wf: float, p: float, td: float, txd: float, sd: float) -> float:
-    """Gallaway's V_p [m/s] for a film wf > 0 [m]; the operations of the tire core's
-    ``gallaway_speed`` (tirecore.c), in its order."""
-    w6 = math.pow(wf / _IN, 0.06)
-    a1 = 10.409 / w6 + 3.507
-    a2 = (28.952 / w6 - 7.817) * math.pow(txd / _IN, 0.14)
-    A = a1 if a1 > a2 else a2
+    """Gallaway's V_p [m/s] for a film wf > 0 [m] (array or float; inputs checked by the
+    callers)."""
+    w6 = np.power(wf / _IN, 0.06)
+    A = np.maximum(10.409 / w6 + 3.507, (28.952 / w6 - 7.817) * math.pow(txd / _IN, 0.14))
     mph = (math.pow(sd, 0.04) * math.pow(p / _PSI, 0.3) * math.pow(td / _IN * 32.0 + 1.0, 0.06)
            * A)
     return mph * _MPH
@@ -198,15 +196,11 @@ def partial_lift(V: np.ndarray, water_depth: np.ndarray, p_inflation: float,
         raise InputError("out of range", field="water_depth", value=d)
     gallaway_speed(0.0, p_inflation, tread_depth, texture_depth, spin_down)  # validates
     film = np.maximum(d - texture_depth, 0.0)
-    out = np.zeros(np.broadcast(V, film).shape)
-    Vb, fb = np.broadcast_arrays(V, film)
-    for idx in np.ndindex(out.shape):
-        f = float(fb[idx])
-        if f > 0.0:
-            r = float(Vb[idx]) / _gallaway(f, p_inflation, tread_depth, texture_depth,
-                                           spin_down)
-            out[idx] = min(r * r, 1.0)
-    return out if out.shape else out[()]
+    wet = film > 0.0
+    vp = _gallaway(np.where(wet, film, 1.0), p_inflation, tread_depth, texture_depth,
+                   spin_down)
+    r = V / vp
+    return np.where(wet, np.minimum(r * r, 1.0), 0.0)
 
 
 def load_lift(V: np.ndarray, water_depth: np.ndarray, p_inflation: float,
