@@ -84,14 +84,14 @@ def rolling_report() -> dict:
             "f_v": (fv.f_r / fv.f_r[2]).tolist()}
 
 
-def wet_speed_report(temps) -> list[dict]:
+def wet_speed_report(temps, partial_lift: bool = False, dry: bool = True) -> list[dict]:
     from tire_brush.braking.wet_grip_test import _grids, friction_source, load_wet_grip_spec
 
     spec = load_wet_grip_spec()
     grids = _grids(spec.grid)
     out = []
-    for d in (spec.water_depth, 0.0):
-        src = friction_source(spec, "passenger", d, grids)
+    for d in (spec.water_depth, 0.0) if dry else (spec.water_depth,):
+        src = friction_source(spec, "passenger", d, grids, partial_lift=partial_lift)
         for T in temps:
             mu = [-float(src(np.array([-1.0]), v / 3.6, spec.car.Fz, T + 273.15)[0])
                   for v in (20, 60, 100)]
@@ -99,13 +99,13 @@ def wet_speed_report(temps) -> list[dict]:
     return out
 
 
-def wet_grip_report(temps) -> list[dict]:
+def wet_grip_report(temps, partial_lift: bool = False) -> list[dict]:
     from tire_brush.braking.wet_grip_test import load_wet_grip_spec, run_wet_grip
 
     spec = load_wet_grip_spec()
     rows = []
     for T in temps:
-        doc, _ = run_wet_grip(spec, "passenger", T)
+        doc, _ = run_wet_grip(spec, "passenger", T, partial_lift=partial_lift)
         rows.append({"T_C": T, "bfc": doc["candidate"]["bfc_wet"],
                      "bfc_ref": doc["reference"]["bfc_wet"],
                      "peak_ref": doc["reference"]["peak_wet"], "G": doc["G"],
@@ -158,6 +158,25 @@ def main() -> int:
     for key in ("bfc", "bfc_ref"):
         slope = np.polyfit(T, [row[key] for row in rows], 1)[0]
         print(f"  d{key}/dT over {T[0]:g}-{T[-1]:g} C: {slope:+.5f} per K   [-0.006 .. 0]")
+    from tire_brush.braking.wet_grip_test import load_wet_grip_spec
+    from tire_brush.hydroplaning import gallaway_speed
+    from tire_brush.params import load_tire
+
+    spec = load_wet_grip_spec()
+    film = spec.water_depth - spec.texture_depth
+    vps = {n: 3.6 * gallaway_speed(film, load_tire(n).patch.p_inflation,
+                                   spec.tire_entry(n).tread_depth, spec.texture_depth)
+           for n in ("passenger", spec.reference_tire)}
+    print("study option: partial lift of the entering film, (V/V_p)^2 with Gallaway's V_p "
+          f"(film {film * 1e3:.1f} mm above the texture: V_p "
+          + ", ".join(f"{n} {v:.0f} km/h" for n, v in vps.items()) + ")")
+    for row in wet_speed_report([5.0, 20.0, 35.0], partial_lift=True, dry=False):
+        print(f"  locked, {row['T_C']:4.0f} C: " + " / ".join(f"{m:.3f}" for m in row["mu"])
+              + f"   mu(100)/mu(20) = {row['ratio']:.3f}")
+    for row in wet_grip_report([5.0, 20.0, 35.0], partial_lift=True):
+        print(f"  {row['T_C']:4.0f} C: BFC {row['bfc']:.3f}, SRTT BFC {row['bfc_ref']:.3f} "
+              f"peak {row['peak_ref']:.3f}, G {row['G']:.3f} ({row['class']}), in windows "
+              f"{row['in_windows']}")
     print(f"({time.perf_counter() - t0:.0f} s)")
     return 0
 

@@ -204,6 +204,12 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
     ("tire core: hydroplaning lift linear in speed (Horne: quadratic)",
      "tire_brush/csrc/tirecore.c",
      "double rv = (vx / Vp) * (vx / Vp);", "double rv = fabs(vx / Vp);"),
+    ("partial lift linear in speed (Horne & Dreher's dynamic pressure: quadratic)",
+     "tire_brush/hydroplaning.py", "np.minimum(r * r, 1.0), 0.0)", "np.minimum(r, 1.0), 0.0)"),
+    ("Gallaway's texture term with the exponent's sign flipped",
+     "tire_brush/hydroplaning.py", "math.pow(txd / _IN, 0.14)", "math.pow(txd / _IN, -0.14)"),
+    ("partial lift on the whole water depth, not the film above the texture",
+     "tire_brush/hydroplaning.py", "film = np.maximum(d - texture_depth, 0.0)", "film = d"),
     # -- axis conventions and the Magic Formula fit (tire_brush/axes.py, mf_fit.py) ----------
     ("adapted SAE Fy taken as the ISO Fy", "tire_brush/axes.py",
      'vy=-1, gamma=1, kappa=1, Fx=1, Fy=-1, Fz=1, Mx=1, My=-1,',
