@@ -483,10 +483,12 @@ def test_whole_tire_dependences_of_real_tires(tire, compound, rr, which, warm):
     """What measured passenger tires do at the ISO point (ISO 28580's -0.8 %/K ambient
     correction; MF example QSY8 = -0.4; SAE J2452 fits): F_r falls with the inflation
     pressure and with temperature, both for the tire held at 25 C and at its equilibrium
-    temperature. Fails without the structure's pressure-independent stiffness
-    (structure_share: the pressure exponent was +0.18) and without the series loading of
-    the tread (the change per K was +0.27 %/K): the model gives -0.14 (warm -0.29) and
-    -0.37 %/K (warm, per K of the ambient, -0.29 %/K), docs/rolling.md."""
+    temperature. The inflation cases fail without the structure's pressure-independent
+    stiffness (structure_share; the pressure exponent was +0.18 isothermal, +0.03 warm with
+    the series loading alone); the isothermal temperature case fails without the series
+    loading of the tread (+0.25 %/K); the warm one passed before too (-0.25 %/K of the
+    ambient: the tire ran at 61.5 C, past the tread's maximum). The model gives -0.14 / -0.30
+    (pressure exponent, isothermal / warm) and -0.37 / -0.29 %/K (docs/rolling.md)."""
     (f0, _), (f1, _) = _iso_point(tire, compound, rr, which, warm)
     assert f1 < f0
 

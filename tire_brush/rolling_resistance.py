@@ -71,14 +71,21 @@ follows the contact length, not the deflection squared, and is lost through the 
 loss tangent; the tread rubber on the belt bends with it (the tread compound's E''). Their
 energy is taken out of the structure's deflection work, the sidewalls keep the rest.
 
+**The tread between belt and road** (``tread_loading = "series"``, :func:`tread_coefficient`):
+the road imposes the tread surface's deflection, which the tread and the belt share in series
+(:func:`belt_compliance`, :func:`series_factor`), so the footprint loss lies between
+stress-controlled (E''/|E|^2) and strain-controlled (E''): Futamura's deformation index
+(:func:`deformation_index`) from the two compliances. The structure stores the share
+:func:`structure_share` of the deflection work (its stiffness does not change with the
+inflation; the pneumatic part is lossless). :func:`iso28580` evaluates the ISO point at the
+tire's thermal equilibrium (:func:`steady_temperature`), as the standard measures.
+
 Limits (approximate physics, said so; docs/rolling.md, "Limits"): the sidewalls' deflection
-energy of a linear vertical spring grows as :math:`F_z^2`, and the tread's footprint-pressure
-loss, a compliance loss, rises with the inflation pressure and, on the summer compound's
-rubbery side, with temperature: the whole tire's load exponent (1.10), pressure exponent
-(+0.18) and change per K at 25 C (+0.27 %/K) miss the measured ~0.9, ~-0.4 and -0.8 %/K
-(ISO 28580 / SAE J2452 fits). One temperature (the tread's) stands for the whole tire; the
-frequency content is that of a ring, not of a shell; standing waves (above ~150 km/h) are not
-modelled.
+energy of a linear vertical spring grows as :math:`F_z^2`: the whole tire's load exponent
+(1.11 at 25 C, 1.08 warm) stays above the measured ~0.85-1; the change per K (-0.37 %/K at
+25 C, -0.29 %/K of the ambient warm) is short of ISO 28580's -0.8 %/K. One temperature (the
+tread's) stands for the whole tire; the frequency content is that of a ring, not of a shell;
+standing waves (above ~150 km/h) are not modelled.
 """
 
 from __future__ import annotations
