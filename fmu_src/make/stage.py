@@ -300,7 +300,7 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
         (data / WET_FILE).write_bytes(wet_data)
     s0 = float(grid.meta["s0_m"]) if options.s0 is None else float(options.s0)
     patch_data, realtime = _patch_resource(tire, grid, s0, options.fidelity,
-                                           options.realtime_axes)
+                                           options.realtime_axes, wet=bool(wet_data))
     if patch_data:
         (data / PATCH_FILE).write_bytes(patch_data)
     tire_d = tire_to_dict(tire)
@@ -366,20 +366,27 @@ def _rolling_resource(tire: TireParams, grid: Any) -> tuple[bytes, dict[str, Any
 
 
 def _patch_resource(tire: TireParams, grid: Any, s0: float, fidelity: str,
-                    axes: dict | None = None) -> tuple[bytes, dict[str, Any]]:
+                    axes: dict | None = None, *, wet: bool = False
+                    ) -> tuple[bytes, dict[str, Any]]:
     """The real-time fidelity's patch table file (empty bytes for a full-fidelity build) and
     its entry in build.json: built from the steady march of this tire on the grid's friction
-    with the blend length ``s0`` (:func:`tire_brush.realtime_build.cached_patch_table`)."""
+    with the blend length ``s0`` (:func:`tire_brush.realtime_build.cached_patch_table`), with
+    a layer at each water depth of the grid's wet branch when the FMU carries one (``wet``;
+    drainage scale 1, as the FMU's)."""
     if fidelity != "realtime":
         return b"", {"file": None}
+    from lookup.grid.wet import load_wet
     from tire_brush.friction import GridFriction, as_table
     from tire_brush.realtime_build import cached_patch_table
 
     t0 = time.perf_counter()
-    table, path = cached_patch_table(tire, as_table(GridFriction(grid, s0=s0)), axes=axes)
+    branch = load_wet(Path(str(grid.source))) if wet else None
+    table, path = cached_patch_table(tire, as_table(GridFriction(grid, s0=s0)), axes=axes,
+                                     wet=branch)
     data = path.read_bytes()
     return data, {"file": PATCH_FILE, "sha256": "sha256:" + hashlib.sha256(data).hexdigest(),
                   "key": table.key, "shape": list(table.values.shape),
+                  "water_depth_m": table.depth.tolist(),
                   "seconds": round(time.perf_counter() - t0, 1),
                   "model": "tire_brush.realtime (docs/realtime.md)"}
 
