@@ -315,11 +315,12 @@ def cached_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | Non
 
 def settled(tire: Any, kappa: float, alpha: float, vx: float, Fz: float, T: float, *,
             gamma: float = 0.0, dt: float = 1e-3, distance: float = 6.0,
-            tail: int = 50) -> list[float]:
+            tail: int = 50, water_depth: float = 0.0) -> list[float]:
     """The outputs of a transient tire (either fidelity) held at slip ``kappa``, slip angle
-    ``alpha`` [rad], speed ``vx`` [m/s], load ``Fz`` [N], temperature ``T`` [K] and
-    inclination ``gamma`` [rad] from rest until it has rolled ``distance`` [m] (at least 0.3
-    s): the mean of the last ``tail`` steps' outputs (:data:`tire_brush.signals.OUTPUTS`)."""
+    ``alpha`` [rad], speed ``vx`` [m/s], load ``Fz`` [N], temperature ``T`` [K],
+    inclination ``gamma`` [rad] and water depth ``water_depth`` [m] from rest until it has
+    rolled ``distance`` [m] (at least 0.3 s): the mean of the last ``tail`` steps' outputs
+    (:data:`tire_brush.signals.OUTPUTS`)."""
     tire.reset()
     R = tire.params.R_e
     omega = vx * (1.0 + kappa) / R
@@ -327,7 +328,7 @@ def settled(tire: Any, kappa: float, alpha: float, vx: float, Fz: float, T: floa
     n = max(int(0.3 / dt), int(distance / (vx * dt)), tail)
     acc = []
     for k in range(n):
-        o = tire.step_array(dt, vx, vy, omega, Fz, T, 1.0, gamma)
+        o = tire.step_array(dt, vx, vy, omega, Fz, T, 1.0, gamma, water_depth)
         if k >= n - tail:
             acc.append(o)
     return np.mean(acc, axis=0).tolist()
