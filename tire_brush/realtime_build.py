@@ -46,10 +46,12 @@ def default_axes(friction_T: np.ndarray) -> dict[str, np.ndarray]:
 
 
 def table_key(params: Any, table: Any, axes: dict[str, np.ndarray], n_cells: int,
-              tol: float, wet: Any | None = None, drain_scale: float = 1.0) -> str:
+              tol: float, wet: Any | None = None, drain_scale: float = 1.0,
+              depths: Any = None) -> str:
     """Hash of what a patch table depends on: the tire parameters, the friction table's axes,
     values and blend length, the axes and the march's settings, and the wet branch (its
-    hash, water depths and drainage times, and the drainage scale) when the table has one."""
+    hash, water depths and drainage times, the drainage scale and the layers' depths
+    ``depths``, default the branch's) when the table has one."""
     h = hashlib.sha256()
     h.update(repr(params).encode())
     for a in (table.log10_v, table.T, table.log10_p, table.values):
@@ -65,23 +67,37 @@ def table_key(params: Any, table: Any, axes: dict[str, np.ndarray], n_cells: int
             h.update(np.ascontiguousarray(wet.axes[name], float).tobytes())
         for name in sorted(wet.variables):
             h.update(np.ascontiguousarray(wet.variables[name], float).tobytes())
+        if depths is not None:
+            h.update(np.ascontiguousarray(depths, float).tobytes())
     return h.hexdigest()
 
 
 def _wet_layer_arrays(table: Any, wet: Any, d: float) -> tuple[np.ndarray, ...]:
-    """The wet branch at the water depth node ``d`` [m] on the friction table's nodes: the
-    cold and hot friction at dry share 0 and 1, shape (nv, nT, np) each, and the dry share at
-    every drainage-time node, (nt, nv, nT, np) (:mod:`lookup.grid.wet`)."""
+    """The wet branch at the water depth ``d`` [m] on the friction table's nodes: the cold and
+    hot friction at dry share 0 and 1, shape (nv, nT, np) each, and the dry share at every
+    drainage-time node, (nt, nv, nT, np) (:mod:`lookup.grid.wet`); between the branch's depth
+    nodes each linear in the depth, as the core's ``step_table`` reads them (clamped to the
+    nodes)."""
     for name, a, b in (("log10_v", table.log10_v, wet.axes["log10_v"]),
                        ("T", table.T, wet.axes["T"]), ("log10_p", table.log10_p,
                                                          wet.axes["log10_p"])):
         if a.shape != b.shape or not np.allclose(a, b, rtol=0, atol=1e-9):
             raise InputError("the wet branch has other nodes than the friction table",
                              field=name)
-    k = int(np.flatnonzero(wet.axes["water_depth"] == d)[0])
+    ax = np.asarray(wet.axes["water_depth"], float)
+    n = ax.size
+    if not (d > ax[0]):
+        k, f = 0, 0.0
+    elif not (d < ax[n - 1]):
+        k, f = n - 2, 1.0
+    else:
+        k = int(np.searchsorted(ax, d, side="right")) - 1
+        f = (d - ax[k]) / (ax[k + 1] - ax[k])
     v = wet.variables
-    return (v["mu_wet_cold_w0"][k], v["mu_wet_cold_w1"][k], v["mu_wet_hot_w0"][k],
-            v["mu_wet_hot_w1"][k], v["w_dry"][k])
+    return tuple((1.0 - f) * np.asarray(v[name][k], float) + f * np.asarray(v[name][k + 1],
+                                                                             float)
+                 for name in ("mu_wet_cold_w0", "mu_wet_cold_w1", "mu_wet_hot_w0",
+                              "mu_wet_hot_w1", "w_dry"))
 
 
 def _wet_march(params: Any, table: Any, n_cells: int, tol: float, wet: tuple, Vsx: np.ndarray,
@@ -215,7 +231,7 @@ def full_sliding_share(params: Any, Fz: Any) -> np.ndarray:
 def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None = None,
                       n_cells: int | None = None, tol: float | None = None,
                       processes: int = 1, wet: Any | None = None,
-                      drain_scale: float = 1.0) -> PatchTable:
+                      drain_scale: float = 1.0, depths: Any = None) -> PatchTable:
     """Tabulate the steady patch response for the real-time fidelity (module docstring).
 
     Parameters
@@ -238,6 +254,11 @@ def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None
     drain_scale
         ``(D / 2R)^2`` of the drainage time, as :meth:`~tire_brush.transient.
         TransientBrushTire.set_wet` takes it (the FMUs: 1).
+    depths
+        Water depths [m] of the layers, strictly ascending from 0 (default: the branch's
+        nodes); a layer between the branch's nodes is marched on the branch read at that
+        depth, as the full model reads it (fewer interpolation errors between them at the
+        cost of a layer each: docs/realtime.md).
     """
     table = as_table(friction)
     n_cells = N_STEADY if n_cells is None else n_cells
@@ -248,7 +269,16 @@ def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None
             if k not in AXIS_NAMES:
                 raise InputError(f"unknown axis (one of {AXIS_NAMES})", field="axes", value=k)
             ax[k] = np.asarray(v, float)
-    depths = [0.0] if wet is None else [float(d) for d in wet.axes["water_depth"]]
+    if wet is None:
+        depths = [0.0]
+    elif depths is None:
+        depths = [float(d) for d in wet.axes["water_depth"]]
+    else:
+        depths = [float(d) for d in depths]
+        if not depths or depths[0] != 0.0 or not all(math.isfinite(d) for d in depths) or \
+                not bool(np.all(np.diff(depths) > 0)):
+            raise InputError("must be strictly ascending water depths from 0 m",
+                             field="depths", value=depths)
     if not (math.isfinite(drain_scale) and drain_scale > 0):
         raise InputError("must be a finite number > 0", field="drain_scale", value=drain_scale)
     jobs = []
@@ -272,7 +302,8 @@ def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None
     f0 = np.stack([f for _, f in layers]).reshape((*lead, *layers[0][1].shape))
     return PatchTable(ax["gamma"], ax["T"], ax["Fz"], ax["log10_v"], ax["theta"], ax["rho"],
                       full_sliding_share(params, ax["Fz"]), f0, vals,
-                      key=table_key(params, table, ax, n_cells, tol, wet, drain_scale),
+                      key=table_key(params, table, ax, n_cells, tol, wet, drain_scale,
+                                    None if wet is None else depths),
                       depth=np.array(depths))
 
 
@@ -283,8 +314,8 @@ def cache_dir() -> Path:
 
 def cached_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None = None,
                        processes: int = 2, directory: str | Path | None = None,
-                       wet: Any | None = None,
-                       drain_scale: float = 1.0) -> tuple[PatchTable, Path]:
+                       wet: Any | None = None, drain_scale: float = 1.0,
+                       depths: Any = None) -> tuple[PatchTable, Path]:
     """:func:`build_patch_table` at the default march settings (and the default axes, or those
     of ``axes`` given; with the layers of the wet branch ``wet`` when given), cached on disk
     by :func:`table_key` (the tire parameters, the friction table, the axes and settings, the
@@ -296,7 +327,10 @@ def cached_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | Non
         if k not in AXIS_NAMES:
             raise InputError(f"unknown axis (one of {AXIS_NAMES})", field="axes", value=k)
         ax[k] = np.asarray(v, float)
-    key = table_key(params, table, ax, N_STEADY, TOL, wet, drain_scale)
+    if wet is not None and depths is None:
+        depths = [float(d) for d in wet.axes["water_depth"]]
+    key = table_key(params, table, ax, N_STEADY, TOL, wet, drain_scale,
+                    None if wet is None else depths)
     d = Path(directory) if directory is not None else cache_dir()
     path = d / f"patch-{key[:24]}.bin"
     if path.is_file():
@@ -305,7 +339,7 @@ def cached_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | Non
         except InputError:
             pass                                    # a damaged cache file: build again
     pt = build_patch_table(params, table, axes=ax, processes=processes, wet=wet,
-                           drain_scale=drain_scale)
+                           drain_scale=drain_scale, depths=depths)
     d.mkdir(parents=True, exist_ok=True)
     with tempfile.NamedTemporaryFile(dir=d, delete=False, suffix=".tmp") as f:
         f.write(pt.to_bytes())

@@ -92,7 +92,10 @@ class BuildOptions:
         grid, cached) and its parameter ``fidelity`` starts at 1 (docs/realtime.md).
     realtime_axes : dict or None
         Axes of the patch table by :data:`tire_brush.realtime.AXIS_NAMES` where they differ
-        from the defaults (coarser ones build faster and interpolate worse: docs/realtime.md).
+        from the defaults (coarser ones build faster and interpolate worse: docs/realtime.md),
+        and ``"water_depth"``: the water depths [m] of its layers on a grid with a wet branch
+        (default the branch's depth nodes; layers between them read the branch as the full
+        model does).
     """
 
     n_elements: int = N_TRANSIENT
@@ -381,8 +384,10 @@ def _patch_resource(tire: TireParams, grid: Any, s0: float, fidelity: str,
 
     t0 = time.perf_counter()
     branch = load_wet(Path(str(grid.source))) if wet else None
+    axes = dict(axes or {})
+    depths = axes.pop("water_depth", None)
     table, path = cached_patch_table(tire, as_table(GridFriction(grid, s0=s0)), axes=axes,
-                                     wet=branch)
+                                     wet=branch, depths=depths if wet else None)
     data = path.read_bytes()
     return data, {"file": PATCH_FILE, "sha256": "sha256:" + hashlib.sha256(data).hexdigest(),
                   "key": table.key, "shape": list(table.values.shape),
