@@ -104,6 +104,42 @@ def test_wet_layer_is_the_march_on_the_wet_friction(wet_setup, rng):
         assert abs(r[2] / Fz - wt.values[(1, *idx, 2)]) < 1e-9, idx
 
 
+def test_a_layer_between_the_branchs_depths(wet_setup, rng):
+    """A layer at 0.5 mm (between the branch's nodes 0 and 1 mm) is the march on the branch
+    read at 0.5 mm (:func:`tire_brush.wet_friction.wet_branch_table`, as the full model reads
+    it), and a read at 0.5 mm returns that layer; the layers' depths must start at 0."""
+    from tire_brush.wet_friction import (
+        drainage_time,
+        entrainment_speed,
+        footprint_time,
+        wet_branch_table,
+    )
+
+    tp, grid, wet, _, wt = wet_setup
+    axes = dict(SMALL_AXES, gamma=[0.0, 0.1], T=[293.15, 303.15])
+    t3 = build_patch_table(tp, grid, axes=axes, wet=wet, depths=[0.0, 0.5e-3, 1e-3])
+    assert t3.depth.tolist() == [0.0, 0.5e-3, 1e-3] and t3.key != wt.key
+    q = full_sliding_share(tp, t3.Fz)
+    D = float(grid.meta["D_m"])
+    ev = PatchEval(t3)
+    for _ in range(6):
+        iF, iv = int(rng.integers(t3.Fz.size)), int(rng.integers(1, t3.log10_v.size))
+        ith, ir = int(rng.integers(2, t3.theta.size)), int(rng.integers(1, t3.rho.size))
+        Fz, th, rn = float(t3.Fz[iF]), float(t3.theta[ith]), float(t3.rho[ir])
+        rho = rn * q[iF] / (1.0 - rn * (1.0 - q[iF]))
+        vref = 10.0 ** float(t3.log10_v[iv])
+        s = rho * vref
+        Vsx, Vsy, Vr = s * math.cos(th), s * math.sin(th), vref - s
+        t = drainage_time(footprint_time(tp, Fz, entrainment_speed(Vr + Vsx, Vr)), D)
+        sb = SteadyBrush(tp, wet_branch_table(grid, wet, 0.5e-3, t), rigid_carcass=True)
+        r = sb.patch_response(Vsx, Vsy, Vr, Fz, 293.15)[:, 0]
+        F = ev(Vsx, Vsy, Vr, Fz, 293.15, 0.0, 0.5e-3)[0]
+        # the wet friction made two ways differs by rounding: 1e-9 of Fz
+        assert abs(F[0] - r[0]) < 1e-9 * Fz and abs(F[1] - r[1]) < 1e-9 * Fz, (F, r)
+    with pytest.raises(InputError, match="depths"):
+        build_patch_table(tp, grid, axes=axes, wet=wet, depths=[0.5e-3, 1e-3])
+
+
 def test_water_never_raises_the_friction_at_a_fixed_slip(wet_setup, rng):
     """At a fixed slip, load, speed and temperature the force opposing the slip does not rise
     with the water depth, nor the force's magnitude above the dry one's (the wet friction is
