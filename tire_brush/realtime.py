@@ -44,6 +44,10 @@ MF-Swift, FTire's real-time mode). This module is that reduced model of the same
 * **The tread temperature, camber, Mx, My, state.** As in the full model: the lumped tread
   temperature heated by ``heat_fraction`` of the friction power, the inclination an axis of
   the table, ``Mx = -delta_y Fz``, the rolling-resistance table.
+* **Water.** A table built on a grid with a wet branch has a layer per water depth (depth 0
+  the dry road's), each the steady march on the wet friction the full model reads at its
+  nodes (:func:`tire_brush.realtime_build.build_patch_table`); the water depth is read
+  linearly between the two layers about it, clamped to the layers' depths.
 
 This file is the readable reference of ``tire_brush/csrc/tirert.c``, operation for operation;
 the tests pin the two together. It imports numpy and the standard library only at module level
