@@ -165,7 +165,7 @@ int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, doubl
     double g0x = 0.0, g0y = 0.0;
     double ft = lf[4], fr = lf[5];
     /* the water depth: the two layers about it, clamped to the layers' depths as the full
-     * model clamps the wet branch (a dry-only table: the one layer) */
+     * model clamps the wet branch (a dry-only table: its one layer) */
     int il = 0;
     double fl = 0.0;
     if (pt->nd > 1) {
@@ -175,12 +175,12 @@ int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, doubl
     for (int l = 0; l < 2; l++) {
         double wl = l ? fl : 1.0 - fl;
         if (wl == 0.0) continue;
-        size_t lbase = base + (size_t)(il + l) * pt->lval;
-        size_t lob = ob + (size_t)(il + l) * (pt->lf0 / 2);
+        const double *val = pt->val + (size_t)(il + l) * pt->lval;
+        const double *f0 = pt->f0 + (size_t)(il + l) * pt->lf0;
         /* the 16 outer corners (gamma, T, Fz, v), each with its 2 x 2 (theta, rho) cell */
         for (int c = 0; c < 16; c++) {
             double w = wl;
-            size_t off = lbase;
+            size_t off = base;
             for (int k = 0; k < 4; k++) {
                 int bit = (c >> (3 - k)) & 1;
                 double f = lf[k];
@@ -188,10 +188,10 @@ int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, doubl
                 off += (size_t)bit * pt->stride[k];
             }
             if (w == 0.0) continue;
-            size_t o0 = 2 * (lob + (off - lbase) / pt->stride[3]);
-            g0x += w * pt->f0[o0];
-            g0y += w * pt->f0[o0 + 1];
-            const double *v00 = pt->val + off, *v01 = v00 + pt->stride[5];
+            size_t o0 = 2 * (ob + (off - base) / pt->stride[3]);
+            g0x += w * f0[o0];
+            g0y += w * f0[o0 + 1];
+            const double *v00 = val + off, *v01 = v00 + pt->stride[5];
             const double *v10 = v00 + pt->stride[4], *v11 = v10 + pt->stride[5];
             for (int q = 0; q < TF_PATCH_NV; q++) {
                 double a00 = v00[q], a01 = v01[q], a10 = v10[q], a11 = v11[q];
@@ -204,6 +204,7 @@ int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, doubl
                 }
             }
         }
+        if (pt->nd == 1) break;
     }
     for (int q = 0; q < 4; q++) {
         dr[q] *= linv[5];
