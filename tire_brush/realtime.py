@@ -122,7 +122,8 @@ class PatchTable:
         direction where the slip is tiny).
     values : numpy.ndarray
         Shape ``(n_gamma, n_T, n_Fz, n_v, n_theta, n_rho, N_VALUES)``, see
-        :data:`VALUE_NAMES`.
+        :data:`VALUE_NAMES` (with a leading axis over ``depth`` when it has more than one
+        layer, as ``f0``).
     key : str
         Hash of the tire parameters, friction table and axes it was built from.
     depth : numpy.ndarray
