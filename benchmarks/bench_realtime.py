@@ -29,7 +29,8 @@ the patch table is built from its steady march, cached by its hash):
   2 .. 10 deg, 20 C, 10 and 25 m/s, 4 kN) against the full model's steady march on the wet
   friction it reads there (the branch at the depth and the point's drainage time,
   :mod:`tire_brush.wet_friction`); one ABS stop at 1 mm through both fidelities of one
-  native build; and the core's cost per step at 0.5 mm (two depth layers read) and 1 mm.
+  native build, and the wet-grip test's stop (90 -> 20 km/h); and the core's cost per step
+  at 0.5 mm (two depth layers read) and 1 mm.
 """
 
 from __future__ import annotations
@@ -292,6 +293,42 @@ def wet_abs_stop(tp_name: str, grid_name: str, water_depth: float = 1e-3,
     return row
 
 
+def wet_grip_stops(tp_name: str) -> dict:
+    """The wet-grip test's ABS stop (models/studies/wet_grip.toml: its quarter car without the
+    tread-temperature state, 90 -> 20 km/h on 1 mm of water, 20 C, texture depth 0.7 mm)
+    through the native FMU at both fidelities of one build on its grid; the ABS's slip
+    thresholds fixed (the map-based test schedules them from the force map): the distance
+    from 80 to 20 km/h and the braking force coefficient over it."""
+    import dataclasses
+
+    from fmu_src.host.cosim import CosimSettings, simulate_braking_fmu
+    from fmu_src.make.native_build import build_native_fmu
+    from fmu_src.make.stage import BuildOptions
+    from tire_brush.braking.abs_control import ABSParams, RuleBasedABS
+    from tire_brush.braking.wet_grip_test import bfc_distance, load_wet_grip_spec
+    from tire_brush.wet_grip import braking_force_coefficient
+
+    spec = load_wet_grip_spec("wet_grip")
+    car = dataclasses.replace(spec.car, radius=load_tire(tp_name).R_e, thermal=None)
+    row: dict = {"water_mm": 1e3 * spec.water_depth, "T": spec.T_K - C0}
+    with tempfile.TemporaryDirectory() as tmp:
+        fmu = Path(tmp) / "tire.fmu"
+        build_native_fmu(tp_name, spec.grid, fmu,
+                         BuildOptions(fidelity="realtime", texture_depth=spec.texture_depth))
+        for fid in (0, 1):
+            ctrl = RuleBasedABS(ABSParams(), car.radius, car.brake_torque_rate_max)
+            t0 = time.perf_counter()
+            res = simulate_braking_fmu(fmu, car, ctrl, spec.v_start, spec.T_K, v_stop=spec.v2,
+                                       settings=CosimSettings(parameters={"fidelity": fid}),
+                                       water_depth=spec.water_depth)
+            d = bfc_distance(res, spec.v1)
+            row[f"distance_{fid}"] = d
+            row[f"bfc_{fid}"] = braking_force_coefficient(spec.v1, spec.v2, d)
+            row[f"wall_s_{fid}"] = time.perf_counter() - t0
+    row["diff_rel"] = row["distance_1"] / row["distance_0"] - 1.0
+    return row
+
+
 def _wet_file(model: TransientBrushTire, wet, texture_depth: float = 0.0) -> bytes:
     """The wet-branch file of benchmarks/core_step.c (its header comment)."""
     from tire_brush.hydroplaning import D_FULL
@@ -520,6 +557,13 @@ def main(argv: list[str] | None = None) -> int:
               f"native FMU: full {r['distance_0']:.2f} m ({r['wall_s_0']:.0f} s), real-time "
               f"{r['distance_1']:.2f} m ({r['wall_s_1']:.1f} s): {100 * r['diff_rel']:+.2f} % "
               f"(target 2 %)")
+        res["wet_grip"] = wet_grip_stops(args.tire)
+        r = res["wet_grip"]
+        print(f"the wet-grip test's ABS stop (90 -> 20 km/h, {r['water_mm']:.0f} mm, "
+              f"{r['T']:.0f} C) through the native FMU: 80 -> 20 km/h in "
+              f"{r['distance_0']:.2f} m (BFC {r['bfc_0']:.3f}, {r['wall_s_0']:.0f} s) full, "
+              f"{r['distance_1']:.2f} m (BFC {r['bfc_1']:.3f}, {r['wall_s_1']:.1f} s) "
+              f"real-time: {100 * r['diff_rel']:+.2f} % (target 2 %)")
     if args.json:
         print(json.dumps(res, indent=1, default=float))
     return 0
