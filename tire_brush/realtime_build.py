@@ -85,19 +85,25 @@ def _wet_layer_arrays(table: Any, wet: Any, d: float) -> tuple[np.ndarray, ...]:
             raise InputError("the wet branch has other nodes than the friction table",
                              field=name)
     ax = np.asarray(wet.axes["water_depth"], float)
-    n = ax.size
-    if not (d > ax[0]):
-        k, f = 0, 0.0
-    elif not (d < ax[n - 1]):
-        k, f = n - 2, 1.0
-    else:
-        k = int(np.searchsorted(ax, d, side="right")) - 1
-        f = (d - ax[k]) / (ax[k + 1] - ax[k])
+    k, f = _cell(ax, d)
     v = wet.variables
     return tuple((1.0 - f) * np.asarray(v[name][k], float) + f * np.asarray(v[name][k + 1],
                                                                              float)
                  for name in ("mu_wet_cold_w0", "mu_wet_cold_w1", "mu_wet_hot_w0",
                               "mu_wet_hot_w1", "w_dry"))
+
+
+def _cell(ax: np.ndarray, x: float) -> tuple[int, float]:
+    """The cell ``k`` of the ascending axis ``ax`` holding ``x`` and the fraction ``f`` in it,
+    clamped to the axis (``f`` 0 below it, 1 above; NaN reads the first node): the core's
+    ``locate_arr``."""
+    n = ax.size
+    if not (x > ax[0]):
+        return 0, 0.0
+    if not (x < ax[n - 1]):
+        return n - 2, 1.0
+    k = int(np.searchsorted(ax, x, side="right")) - 1
+    return k, float((x - ax[k]) / (ax[k + 1] - ax[k]))
 
 
 def _wet_march(params: Any, table: Any, n_cells: int, tol: float, wet: tuple, Vsx: np.ndarray,
@@ -126,19 +132,11 @@ def _wet_march(params: Any, table: Any, n_cells: int, tol: float, wet: tuple, Vs
     out = np.zeros((Vsx.size, ccore.STEADY_OUT))
     o = np.zeros(ccore.STEADY_OUT)
     vals = np.array(table.values[:, r], float)
-    nt = lt_ax.size
     for j in range(Vsx.size):
         a, _ = params.patch.size(float(Fz[j]))
         U = 0.5 * (abs(float(Vr[j] + Vsx[j])) + abs(float(Vr[j])))
         lt = math.log10(drain_scale * (2.0 * a / U)) if U > 0.0 and a > 0.0 else math.inf
-        # the cell on the drainage-time axis as the core's locate_arr
-        if not (lt > lt_ax[0]):
-            i, f = 0, 0.0
-        elif not (lt < lt_ax[nt - 1]):
-            i, f = nt - 2, 1.0
-        else:
-            i = int(np.searchsorted(lt_ax, lt, side="right")) - 1
-            f = (lt - lt_ax[i]) / (lt_ax[i + 1] - lt_ax[i])
+        i, f = _cell(lt_ax, lt)                     # the drainage-time cell
         ws = (1.0 - f) * wd[i] + f * wd[i + 1]
         ws = np.where(ws > 0.0, ws, 0.0)
         ws = np.where(ws > 1.0, 1.0, ws)
