@@ -130,6 +130,8 @@ MUTATIONS: list[tuple[str, str, str, str]] = [
      "double Q = P * h;", "double Q = 0.5 * P * h;"),
     ("real-time: no transit lag of the adhesion zone", "tire_brush/csrc/tirert.c",
      "double tau = ((2.0 / 3.0) * a) * (1.0 - frac) / vr;", "double tau = 0.0;"),
+    ("real-time: the water depth not read (the dry layer on water)",
+     "tire_brush/csrc/tirert.c", "d_water, o);", "0.0, o);"),
     # -- tire core (tire_brush/csrc/tirecore.c, what the models and the FMU run) -------------
     ("tire core: eq. (28) with s0 halved", "tire_brush/csrc/tirecore.c",
      "    S.inv_s0 = t->inv_s0;\n", "    S.inv_s0 = 2.0 * t->inv_s0;\n"),
