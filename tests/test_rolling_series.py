@@ -158,7 +158,7 @@ def _tread_heat(t, compound, rr, V, Fz):
 
 def test_steady_temperature_balances_the_tread_heat(t210, compound, rr):
     """At the equilibrium the conductance's cooling equals the tread's share of the rolling
-    loss (to G x 1e-5 K: Brent's xtol 1e-6 K); where the heat falls with temperature the
+    loss (to G x 1e-5 K: the root's xtol 1e-6 K); where the heat falls with temperature the
     tread warms by less than the ambient rises (dT/dT_a = G/(G - dQ/dT) < 1)."""
     V, Fz, Ta = rrm.ISO_SPEED, 4825.0, 298.15
     G = t210.thermal.conductance
@@ -170,6 +170,20 @@ def test_steady_temperature_balances_the_tread_heat(t210, compound, rr):
     assert Q(T[2]) < Q(T[0]) and 0 < (T[2] - T[0]) / 10.0 < 1.0
     with pytest.raises(InputError):
         rrm.steady_temperature(t210, compound, V, Fz, Ta, rr=rr, conductance=0.0)
+
+
+def test_bracketed_roots_closed_form():
+    """The vectorised Illinois solve finds each component's root of x^3 - c (closed form
+    c^(1/3)) to its xtol, from brackets of different widths, one being the root's own end
+    (f = 0 there) and one a function whose secant overshoots (x^9: regula falsi without the
+    Illinois step stalls on one end)."""
+    c = np.array([0.5, 2.0, 27.0, 8.0])
+    lo = np.array([0.0, 1.0, 0.0, 1.0])
+    hi = np.array([1.0, 2.0, 10.0, 2.0])
+    x = rrm._bracketed_roots(lambda t: t**3 - c, lo, hi, xtol=1e-9)
+    assert np.allclose(x, np.cbrt(c), rtol=0, atol=1e-9)
+    y = rrm._bracketed_roots(lambda t: t**9 - 0.5, np.array([0.0]), np.array([3.0]), xtol=1e-9)
+    assert y[0] == pytest.approx(0.5 ** (1 / 9), abs=1e-9)
 
 
 @pytest.mark.slow

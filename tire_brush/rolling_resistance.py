@@ -92,7 +92,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -106,7 +106,7 @@ from lookup.rolling import (
     bonded_layer_factor,
     layer_weight,
 )
-from tirefric.errors import InputError
+from tirefric.errors import ConvergenceError, InputError
 
 from .params import TireParams
 
@@ -998,12 +998,14 @@ def steady_temperature(params: TireParams, compound: Compound, V: float, Fz: flo
 
     .. math:: G\,(T - T_{\rm amb}) = s(T)\,f_r(T)\,F_z\,|V| .
 
-    The root is bracketed on a 4 K lattice of tread temperatures (one vectorised evaluation
-    per 100 K) and refined by Brent's method to 1e-6 K: the root, not the lattice or the iteration
-    count, is the result; with several roots the lowest (the one reached by warming up from
-    the ambient). ISO 28580 measures at this equilibrium (the tire runs until its rolling
-    resistance is steady, at 25 C ambient) and corrects for the ambient temperature. One
-    temperature, the tread's, stands for the whole tire (as in :func:`rolling_resistance`).
+    The root is bracketed on a 4 K lattice of tread temperatures (one vectorised evaluation per
+    100 K) and refined to 1e-6 K by the Illinois method, all ambient temperatures in one
+    vectorised evaluation per iteration (:func:`_bracketed_roots`): the root, not the lattice
+    or the iteration count, is the result; with several roots the lowest (the one reached by
+    warming up from the ambient). ISO 28580 measures at this equilibrium (the tire runs until
+    its rolling resistance is steady, at 25 C ambient) and corrects for the ambient
+    temperature. One temperature, the tread's, stands for the whole tire (as in
+    :func:`rolling_resistance`).
 
     Parameters
     ----------
@@ -1024,8 +1026,6 @@ def steady_temperature(params: TireParams, compound: Compound, V: float, Fz: flo
     float or numpy.ndarray
         The tread temperature [K] for each ambient temperature.
     """
-    from scipy.optimize import brentq
-
     if rr is None:
         rr = load_rolling_params(params)
     G = params.thermal.conductance if conductance is None else conductance
@@ -1042,8 +1042,10 @@ def steady_temperature(params: TireParams, compound: Compound, V: float, Fz: flo
     step, block = 4.0, 25  # lattice spacing [K], nodes per evaluation
     lattice = np.empty(0)
     q = np.empty(0)
-    out = np.empty(T_amb.size)
-    for i, t0 in enumerate(T_amb.ravel()):
+    t0s = T_amb.ravel()
+    lo = np.empty(t0s.size)
+    hi = np.empty(t0s.size)
+    for i, t0 in enumerate(t0s):
         while True:
             g = G * (lattice - t0) - q
             up = np.nonzero((lattice > t0) & (g >= 0.0))[0]
@@ -1056,11 +1058,52 @@ def steady_temperature(params: TireParams, compound: Compound, V: float, Fz: flo
             new = start + step * np.arange(block)
             lattice = np.concatenate([lattice, new])
             q = np.concatenate([q, heat(new)])
-        hi = float(lattice[up[0]])
-        lo = max(hi - step, float(t0))
-        out[i] = brentq(lambda T, t0=t0: G * (T - t0) - float(heat(T)), lo, hi, xtol=1e-6,
-                        rtol=1e-12)
+        hi[i] = float(lattice[up[0]])
+        lo[i] = max(hi[i] - step, float(t0))
+    out = _bracketed_roots(lambda T: G * (T - t0s) - heat(T), lo, hi, xtol=1e-6)
     return float(out[0]) if T_amb.ndim == 0 else out.reshape(T_amb.shape)
+
+
+def _bracketed_roots(fun: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.ndarray,
+                     xtol: float) -> np.ndarray:
+    """Roots of the vectorised ``fun`` (one function per component, evaluated together) in
+    the brackets ``[lo, hi]`` with ``fun(lo) < 0 <= fun(hi)``, each to ``xtol``: the Illinois
+    variant of regula falsi (Dowell & Jarratt, BIT 11 (1971) 168), which keeps the bracket
+    and converges superlinearly; one vectorised evaluation per iteration for all roots (the
+    rolling-resistance model costs nearly the same for one temperature as for many). The
+    result is the root to ``xtol``, not an iterate: the iteration stops on the bracket's
+    width."""
+    a, b = np.array(lo, float), np.array(hi, float)
+    fa, fb = fun(a), fun(b)
+    fa = np.array(fa, float)
+    fb = np.array(fb, float)
+    side = np.zeros(a.size, int)            # which end the last iterate replaced
+    x = b.copy()
+    for _ in range(200):
+        active = (b - a) > xtol
+        if not active.any():
+            return x
+        denom = fb - fa
+        xs = np.where(denom != 0.0, b - fb * (b - a) / np.where(denom != 0.0, denom, 1.0),
+                      0.5 * (a + b))
+        # the secant point strictly inside the bracket, else the midpoint
+        xs = np.where((xs > a) & (xs < b), xs, 0.5 * (a + b))
+        x = np.where(active, xs, x)
+        fx = np.asarray(fun(x), float)
+        upper = active & (fx >= 0.0)
+        lower = active & (fx < 0.0)
+        # Illinois: an end kept twice in a row has its value halved
+        fa = np.where(upper & (side == 1), 0.5 * fa, fa)
+        fb = np.where(lower & (side == -1), 0.5 * fb, fb)
+        b = np.where(upper, x, b)
+        fb = np.where(upper, fx, fb)
+        a = np.where(lower, x, a)
+        fa = np.where(lower, fx, fa)
+        side = np.where(upper, 1, np.where(lower, -1, side))
+        done_exact = active & (fx == 0.0)
+        a = np.where(done_exact, x, a)
+        b = np.where(done_exact, x, b)
+    raise ConvergenceError("the thermal equilibrium's root did not converge in 200 iterations")
 
 
 @dataclass(frozen=True)
