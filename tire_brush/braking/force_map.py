@@ -354,13 +354,30 @@ class PointEvaluator:
             lo, hi = fmap.bounds(name)
             self._axes.append((INPUTS.index(name), lo, hi, name == "vx", t, k, len(t) - k - 1))
         self._c = fmap.coefficients
+        self._last: list[tuple] = [(math.nan, 0, [])] * len(self._axes)
         self.axes = fmap.axes
 
     @staticmethod
     def _basis(t: list[float], k: int, n: int, x: float) -> tuple[int, list[float]]:
         """First index and values of the ``k + 1`` B-splines of degree ``k`` nonzero at ``x``
-        (knots ``t``, ``n`` coefficients; ``t[k] <= x <= t[n]``)."""
+        (knots ``t``, ``n`` coefficients; ``t[k] <= x <= t[n]``): de Boor's recurrence,
+        written out for the cubic."""
         m = min(max(bisect.bisect_right(t, x) - 1, k), n - 1)
+        if k == 3:
+            tr1, tr2, tr3 = t[m + 1] - x, t[m + 2] - x, t[m + 3] - x
+            tl1, tl2, tl3 = x - t[m], x - t[m - 1], x - t[m - 2]
+            temp = 1.0 / (tr1 + tl1)
+            a0, a1 = tr1 * temp, tl1 * temp
+            temp = a0 / (tr1 + tl2)
+            b0, saved = tr1 * temp, tl2 * temp
+            temp = a1 / (tr2 + tl1)
+            b1, b2 = saved + tr2 * temp, tl1 * temp
+            temp = b0 / (tr1 + tl3)
+            c0, saved = tr1 * temp, tl3 * temp
+            temp = b1 / (tr2 + tl2)
+            c1, saved = saved + tr2 * temp, tl2 * temp
+            temp = b2 / (tr3 + tl1)
+            return m - 3, [c0, c1, saved + tr3 * temp, tl1 * temp]
         b = [1.0]
         for j in range(1, k + 1):
             saved = 0.0
@@ -380,11 +397,14 @@ class PointEvaluator:
         args = (kappa, vx, Fz, T_K)
         block = []
         bases = []
-        for i, lo, hi, log, t, k, n in self._axes:
+        last = self._last
+        for j, (i, lo, hi, log, t, k, n) in enumerate(self._axes):
             x = min(max(float(args[i]), lo), hi)
             if log:
                 x = math.log10(x)
-            first, b = self._basis(t, k, n, x)
+            if last[j][0] != x:          # a simulation step asks twice at one speed
+                last[j] = (x, *self._basis(t, k, n, x))
+            _, first, b = last[j]
             block.append(slice(first, first + k + 1))
             bases.append(b)
         out = self._c[tuple(block)]
