@@ -20,7 +20,10 @@ For a compound (:mod:`.compounds`) :func:`evaluate_compound`:
    later against the reference tire (:func:`evaluate_reference`);
 5. brakes the quarter car of the braking study from ``v0`` to ``v_stop`` on the force maps of
    the dry and the wet road with the rule-based ABS and a locked wheel (the steps of
-   :func:`tire_brush.braking.study.run_case` without the OCP);
+   :func:`tire_brush.braking.study.run_case` without the OCP), at the screening's braking
+   resolution (:func:`screen_study`: fewer force-map temperatures, a longer largest step;
+   the maps read one point at a time through
+   :meth:`~tire_brush.braking.force_map.ForceMap.point_evaluator`);
 6. the peak braking |Fx/Fz| of the steady brush on the dry road at the peak temperatures
    (:func:`tire_brush.wet_friction.peak_fx_over_fz`).
 

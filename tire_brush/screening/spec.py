@@ -44,7 +44,7 @@ Layout (``models/studies/screen_example.toml`` is a worked example)::
     wet_v_per_decade = 0
     wet_p_nodes = 0
     v_min = "1e-6 m/s"
-    stop_T_step = "4 K"          # the dry stop's force-map temperature nodes: the case
+    stop_T_step = "7 K"          # the dry stop's force-map temperature nodes: the case
                                  # temperature and every stop_T_step above it up to the
                                  # tread's heating bound (0: the study's own nodes)
     stop_dt = "5 ms"             # largest step of the quarter car (stops and the wet grip
@@ -82,13 +82,14 @@ METHODS = ("factorial", "lhs", "sobol")
 #: temperature nodes only, so its full speed and pressure axes cost little.
 #: ``stop_T_step`` [K] and ``stop_dt`` [s] coarsen the braking study's settings for the
 #: stops (:func:`tire_brush.screening.evaluate.screen_study`; 0 keeps the study's own): the
-#: force map's temperature nodes from the case temperature up every 4 K (the study: 4 K
-#: below it, then every 2 K above +4 K) and the quarter car's largest step 5 ms, the ABS
-#: controller's period (the study: 0.5 ms; the step control still shortens the steps where
-#: the wheel needs it, tire_brush.braking.simulation). docs/screening.md measures both.
+#: force map's temperature nodes from the case temperature up every 7 K to the tread's
+#: heating bound (0, 7, 14, 21 K for abs_default; the study: -4, 0, 4 K, then every 2 K to
+#: 20 K) and the quarter car's largest step 5 ms, the ABS controller's period (the study:
+#: 0.5 ms; the step control still shortens the steps where the wheel needs it,
+#: tire_brush.braking.simulation). docs/screening.md measures both.
 DEFAULT_RESOLUTION: dict[str, float] = {"dry_v_per_decade": 4, "dry_p_nodes": 10,
                                         "wet_v_per_decade": 0, "wet_p_nodes": 0,
-                                        "v_min": 1e-6, "stop_T_step": 4.0,
+                                        "v_min": 1e-6, "stop_T_step": 7.0,
                                         "stop_dt": 5e-3}
 
 
