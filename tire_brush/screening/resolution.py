@@ -6,8 +6,9 @@ specs' speed and pressure axes (``default``: 61 speeds, 15 pressures; ``r117_wet
 and the braking study's and wet grip test's own force-map temperatures and quarter-car step
 (:func:`full_settings`), both grids with the temperature nodes their outputs read. For the
 shipped summer tread :func:`compare_shipped` also evaluates on the shipped grid files
-themselves, which is what ``tirefric label`` and ``tirefric abs study`` read (their temperature axes: every 1.75 K
-from -20 C on ``default``, so 20 C lies between nodes there; every 2 K on ``r117_wet``).
+themselves, which is what ``tirefric label`` and ``tirefric abs study`` read (their
+temperature axes: every 1.75 K from -20 C on ``default``, so 20 C lies between nodes there;
+every 2 K on ``r117_wet``).
 """
 
 from __future__ import annotations
