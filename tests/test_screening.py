@@ -241,6 +241,21 @@ def test_store_key_follows_inputs(tmp_path):
     assert k != compound_key(d, s)
 
 
+def test_braking_resolution_enters_the_key():
+    """The screen's braking settings change the numbers, so they change the cache key (a
+    finished compound at other settings is not reused)."""
+    import dataclasses
+
+    from tire_brush.screening.spec import load_screen_spec, screen_settings
+    from tire_brush.screening.store import compound_key
+
+    s = screen_settings(load_screen_spec("screen_example"))
+    d = {"name": "summer", "file": str(resolve_model_file("summer", "compounds"))}
+    keys = {compound_key(d, x.describe()) for x in
+            (s, dataclasses.replace(s, stop_dt=1e-3), dataclasses.replace(s, stop_T_step=4.0))}
+    assert len(keys) == 3
+
+
 # -- whole screens (slow: each compound builds two grids and brakes four times) -----------------
 THREE = '''[compounds]
 files = ["summer", "missing.toml"]
