@@ -2,6 +2,7 @@
 
 Run:  OMP_NUM_THREADS=1 python benchmarks/bench_realtime.py [--tire passenger]
       [--grid default] [--sections steady,steps,lane,abs,cost] [--json]
+      OMP_NUM_THREADS=1 python benchmarks/bench_realtime.py --grid r117_wet --sections wet
 
 Prints, for the shipped tire on the shipped grid (the full model as it is in this checkout;
 the patch table is built from its steady march, cached by its hash):
@@ -22,7 +23,14 @@ the patch table is built from its steady march, cached by its hash):
 * ``cost``: median native doStep per 1 ms step of both fidelities through the C host example
   (one and four tires, the real-time factor of four), the core alone per step, and a
   callgrind instruction count per step of the core at both fidelities if valgrind is
-  installed (the machine-independent figure; target <= 40 k instructions, 10 us).
+  installed (the machine-independent figure; target <= 40 k instructions, 10 us);
+* ``wet`` (a grid with a wet branch, e.g. r117_wet; its table has a layer per water depth):
+  steady Fx, Fy, Mz of the real-time tire on water 0 / 0.5 / 1 mm (kappa -0.02 .. -1, alpha
+  2 .. 10 deg, 20 C, 10 and 25 m/s, 4 kN) against the full model's steady march on the wet
+  friction it reads there (the branch at the depth and the point's drainage time,
+  :mod:`tire_brush.wet_friction`); one ABS stop at 1 mm through both fidelities of one
+  native build, and the wet-grip test's stop (90 -> 20 km/h); and the core's cost per step
+  at 0.5 mm (two depth layers read) and 1 mm.
 """
 
 from __future__ import annotations
@@ -211,6 +219,137 @@ def abs_stops(tp_name: str, grid_name: str, temps=(0.0, 20.0, 40.0)) -> list[dic
     return out
 
 
+WET_KAPPAS = (-0.02, -0.05, -0.1, -0.2, -0.5, -1.0)
+WET_ALPHAS_DEG = (2.0, 4.0, 6.0, 8.0, 10.0)
+
+
+def wet_steady(tp, grid, wet, table, T: float = 20.0, speeds=(10.0, 25.0),
+               Fz: float = 4000.0, depths=(0.0, 0.5e-3, 1e-3)) -> dict:
+    """The steady agreement on water (module docstring, ``wet``): rows per depth, speed and
+    slip with the full model's and the real-time tire's Fx, Fy, Mz."""
+    from tire_brush.wet_friction import (
+        drainage_time,
+        entrainment_speed,
+        footprint_time,
+        wet_branch_table,
+    )
+
+    rt = TransientBrushTire(tp, grid, patch=table, thermal=False)
+    rt.set_wet(wet)
+    D = float(grid.meta["D_m"])
+    pts = [(k, 0.0) for k in WET_KAPPAS] + [(0.0, math.radians(a)) for a in WET_ALPHAS_DEG]
+    rows = []
+    for d in depths:
+        for vx in speeds:
+            full = []
+            for kap, al in pts:
+                if d > 0.0:
+                    U = entrainment_speed(vx, vx * (1.0 + kap))
+                    t = drainage_time(footprint_time(tp, Fz, U), D)
+                    sb = SteadyBrush(tp, wet_branch_table(grid, wet, d, t))
+                else:
+                    sb = SteadyBrush(tp, grid)
+                st = sb.solve(kap, al, vx, Fz, T + C0)
+                full.append([float(st.Fx), float(st.Fy), float(st.Mz)])
+            mz_peak = max(abs(f[2]) for f in full)
+            for (kap, al), f in zip(pts, full, strict=True):
+                r = settled(rt, kap, al, vx, Fz, T + C0, water_depth=d)[:3]
+                rows.append({"water_mm": 1e3 * d, "vx": vx, "Fz": Fz, "kappa": kap,
+                             "alpha_deg": math.degrees(al), "full": f, "rt": r,
+                             "mz_peak": mz_peak})
+    for r in rows:
+        r["dFx"] = (r["rt"][0] - r["full"][0]) / r["Fz"]
+        r["dFy"] = (r["rt"][1] - r["full"][1]) / r["Fz"]
+        r["dMz"] = (r["rt"][2] - r["full"][2]) / max(r["mz_peak"], 1e-9)
+    return {"rows": rows}
+
+
+def wet_abs_stop(tp_name: str, grid_name: str, water_depth: float = 1e-3,
+                 T: float = 20.0) -> dict:
+    """The ABS study's quarter car stopped on water through the native FMU at both
+    fidelities of one build on a grid with a wet branch (as :func:`abs_stops`)."""
+    from fmu_src.host.cosim import CosimSettings, simulate_braking_fmu
+    from fmu_src.make.native_build import build_native_fmu
+    from fmu_src.make.stage import BuildOptions
+    from tire_brush.braking.abs_control import RuleBasedABS
+    from tire_brush.braking.study import load_study
+
+    spec = load_study("abs_default")
+    car = spec.car
+    row: dict = {"T": T, "water_mm": 1e3 * water_depth}
+    with tempfile.TemporaryDirectory() as tmp:
+        fmu = Path(tmp) / "tire.fmu"
+        build_native_fmu(tp_name, grid_name, fmu, BuildOptions(fidelity="realtime"))
+        for fid in (0, 1):
+            ctrl = RuleBasedABS(spec.abs_params, car.radius, car.brake_torque_rate_max)
+            t0 = time.perf_counter()
+            res = simulate_braking_fmu(fmu, car, ctrl, spec.v0, T + C0, v_stop=spec.v_stop,
+                                       settings=CosimSettings(parameters={"fidelity": fid}),
+                                       brake_torque_initial=spec.brake_torque_initial,
+                                       water_depth=water_depth)
+            row[f"distance_{fid}"] = float(res.stopping_distance)
+            row[f"wall_s_{fid}"] = time.perf_counter() - t0
+    row["diff_rel"] = row["distance_1"] / row["distance_0"] - 1.0
+    return row
+
+
+def wet_grip_stops(tp_name: str) -> dict:
+    """The wet-grip test's ABS stop (models/studies/wet_grip.toml: its quarter car without the
+    tread-temperature state, 90 -> 20 km/h on 1 mm of water, 20 C, texture depth 0.7 mm)
+    through the native FMU at both fidelities of one build on its grid; the ABS's slip
+    thresholds fixed (the map-based test schedules them from the force map): the distance
+    from 80 to 20 km/h and the braking force coefficient over it."""
+    import dataclasses
+
+    from fmu_src.host.cosim import CosimSettings, simulate_braking_fmu
+    from fmu_src.make.native_build import build_native_fmu
+    from fmu_src.make.stage import BuildOptions
+    from tire_brush.braking.abs_control import ABSParams, RuleBasedABS
+    from tire_brush.braking.wet_grip_test import bfc_distance, load_wet_grip_spec
+    from tire_brush.wet_grip import braking_force_coefficient
+
+    spec = load_wet_grip_spec("wet_grip")
+    car = dataclasses.replace(spec.car, radius=load_tire(tp_name).R_e, thermal=None)
+    row: dict = {"water_mm": 1e3 * spec.water_depth, "T": spec.T_K - C0}
+    with tempfile.TemporaryDirectory() as tmp:
+        fmu = Path(tmp) / "tire.fmu"
+        build_native_fmu(tp_name, spec.grid, fmu,
+                         BuildOptions(fidelity="realtime", texture_depth=spec.texture_depth))
+        for fid in (0, 1):
+            ctrl = RuleBasedABS(ABSParams(), car.radius, car.brake_torque_rate_max)
+            t0 = time.perf_counter()
+            res = simulate_braking_fmu(fmu, car, ctrl, spec.v_start, spec.T_K, v_stop=spec.v2,
+                                       settings=CosimSettings(parameters={"fidelity": fid}),
+                                       water_depth=spec.water_depth)
+            d = bfc_distance(res, spec.v1)
+            row[f"distance_{fid}"] = d
+            row[f"bfc_{fid}"] = braking_force_coefficient(spec.v1, spec.v2, d)
+            row[f"wall_s_{fid}"] = time.perf_counter() - t0
+    row["diff_rel"] = row["distance_1"] / row["distance_0"] - 1.0
+    return row
+
+
+def _wet_file(model: TransientBrushTire, wet, texture_depth: float = 0.0) -> bytes:
+    """The wet-branch file of benchmarks/core_step.c (its header comment)."""
+    from tire_brush.hydroplaning import D_FULL
+
+    v = wet.variables
+    mu = np.stack([v["mu_wet_cold_w0"], v["mu_wet_cold_w1"], v["mu_wet_hot_w0"],
+                   v["mu_wet_hot_w1"]], axis=-1)
+    blob = struct.pack("2i", wet.axes["water_depth"].size, wet.axes["log10_t_drain"].size)
+    for a in (wet.axes["water_depth"], wet.axes["log10_t_drain"], mu.reshape(-1),
+              np.asarray(v["w_dry"]).reshape(-1), np.array([D_FULL, 1.0, texture_depth])):
+        blob += np.ascontiguousarray(a, dtype=np.float64).tobytes()
+    return blob
+
+
+#: The wet cost's operating point: braking at 20 C, 20 m/s, kappa -0.1 on 0.5 mm (between
+#: the r117_wet grid's depth nodes: two layers read) and on 1 mm (one).
+WET_COST_CASES = {f"20 C, 20 m/s, kappa -0.1, water {d} mm":
+                  [20.0, 0.0, 18.0 / 0.310, 4000.0, 293.15, 1.0, 0.0, d * 1e-3]
+                  for d in (0.0, 0.5, 1.0)}
+
+
 def _core_step_input(model: TransientBrushTire, inputs: list[float], n_warm: int,
                      n_steps: int, n_tires: int = 1) -> bytes:
     """The input file of benchmarks/core_step.c (the format of bench_brush.py)."""
@@ -231,11 +370,13 @@ COST_CASES = {"0 C braking, 27.8 m/s, kappa -0.06":
               [20.0, -0.35, 19.0 / 0.310, 4000.0, 293.15, 1.0, 0.0, 0.0]}
 
 
-def core_costs(tp, grid, table_path: Path, steps: int = 300) -> list[dict]:
+def core_costs(tp, grid, table_path: Path, steps: int = 300, cases=None,
+               wet=None) -> list[dict]:
     """Per 1 ms step of the core alone (benchmarks/core_step.c, one tire, thermal state on):
     the median wall time [us] and, with valgrind, callgrind's instruction count (the
     difference of two runs of ``steps`` and ``2 steps`` steps over ``steps``), both
-    fidelities."""
+    fidelities (``cases``: default :data:`COST_CASES`; ``wet``: the grid's wet branch,
+    given to the tires)."""
     from tire_brush import ccore
 
     cc = shutil.which("cc") or shutil.which("gcc")
@@ -249,8 +390,14 @@ def core_costs(tp, grid, table_path: Path, steps: int = 300) -> list[dict]:
                         str(HERE / "core_step.c"),
                         *(str(ccore.SOURCE_DIR / s) for s in ccore.SOURCES), "-lm"],
                        check=True)
-        for case, u in COST_CASES.items():
-            for fid, extra in (("full", []), ("realtime", [str(table_path)])):
+        wet_arg: list[str] = []
+        if wet is not None:
+            wf = Path(tmp) / "wet.bin"
+            wf.write_bytes(_wet_file(model, wet))
+            wet_arg = [str(wf)]
+        for case, u in (COST_CASES if cases is None else cases).items():
+            for fid, extra in (("full", ["-", *wet_arg] if wet_arg else []),
+                               ("realtime", [str(table_path), *wet_arg])):
                 row = {"case": case, "fidelity": fid}
                 f = Path(tmp) / "in.bin"
                 f.write_bytes(_core_step_input(model, u, 200, 1000))
@@ -366,6 +513,57 @@ def main(argv: list[str] | None = None) -> int:
             print(f"  fidelity {fid}: one tire {one['doStep_median_us']:8.2f} us, four tires "
                   f"{four['doStep_median_us']:8.2f} us each, real-time factor of four "
                   f"{four['real_time_factor']:.1f}")
+    if "wet" in sections:
+        from lookup.grid.store import resolve_grid_path
+        from lookup.grid.wet import load_wet
+
+        wet = load_wet(resolve_grid_path(args.grid))
+        t0 = time.perf_counter()
+        wtable, wpath = cached_patch_table(tp, grid, processes=2, wet=wet)
+        res["wet_table"] = {"seconds": time.perf_counter() - t0,
+                            "MB": wpath.stat().st_size / 1e6,
+                            "shape": list(wtable.values.shape)}
+        print(f"\nwet patch table: {res['wet_table']['MB']:.1f} MB, shape "
+              f"{tuple(wtable.values.shape)} (water depths {wtable.depth.tolist()} m), "
+              f"{res['wet_table']['seconds']:.1f} s (cached: {wpath})")
+        ws = wet_steady(tp, grid, wet, wtable)
+        res["wet_steady"] = ws
+        print("\nsteady on water, 20 C, 4 kN: real-time - full, Fx and Fy over Fz, Mz over "
+              "its peak")
+        print("  water   vx   kappa  alpha    full Fx/Fz  rt Fx/Fz   dFx     dFy     dMz")
+        for r in ws["rows"]:
+            flag = " *" if abs(r["dFx"]) > 0.02 or abs(r["dFy"]) > 0.02 or \
+                abs(r["dMz"]) > 0.05 else ""
+            print(f"  {r['water_mm']:4.1f} {r['vx']:5.0f} {r['kappa']:7.2f} "
+                  f"{r['alpha_deg']:5.1f}    {r['full'][0] / r['Fz']:8.3f}  "
+                  f"{r['rt'][0] / r['Fz']:8.3f}  {r['dFx']:+.4f} {r['dFy']:+.4f} "
+                  f"{r['dMz']:+.4f}{flag}")
+        for d in sorted({r["water_mm"] for r in ws["rows"]}):
+            sel = [r for r in ws["rows"] if r["water_mm"] == d]
+            ok = sum(1 for r in sel if abs(r["dFx"]) <= 0.02 and abs(r["dFy"]) <= 0.02
+                     and abs(r["dMz"]) <= 0.05)
+            print(f"  {d:.1f} mm: max |dFx| {max(abs(r['dFx']) for r in sel):.4f}, max |dFy| "
+                  f"{max(abs(r['dFy']) for r in sel):.4f}, max |dMz| "
+                  f"{max(abs(r['dMz']) for r in sel):.4f}; within all targets "
+                  f"{ok} of {len(sel)}")
+        res["wet_core"] = core_costs(tp, grid, wpath, cases=WET_COST_CASES, wet=wet)
+        print("\nthe core alone per 1 ms step on water (callgrind instructions, target 40000)")
+        for r in res["wet_core"]:
+            ins = f"{r['instructions']:10.0f}" if "instructions" in r else "  (no valgrind)"
+            print(f"  {r['case']:40s} {r['fidelity']:8s} {r['median_us']:9.2f} us {ins}")
+        res["wet_abs"] = wet_abs_stop(args.tire, args.grid)
+        r = res["wet_abs"]
+        print(f"\nABS stop on {r['water_mm']:.0f} mm of water at {r['T']:.0f} C through the "
+              f"native FMU: full {r['distance_0']:.2f} m ({r['wall_s_0']:.0f} s), real-time "
+              f"{r['distance_1']:.2f} m ({r['wall_s_1']:.1f} s): {100 * r['diff_rel']:+.2f} % "
+              f"(target 2 %)")
+        res["wet_grip"] = wet_grip_stops(args.tire)
+        r = res["wet_grip"]
+        print(f"the wet-grip test's ABS stop (90 -> 20 km/h, {r['water_mm']:.0f} mm, "
+              f"{r['T']:.0f} C) through the native FMU: 80 -> 20 km/h in "
+              f"{r['distance_0']:.2f} m (BFC {r['bfc_0']:.3f}, {r['wall_s_0']:.0f} s) full, "
+              f"{r['distance_1']:.2f} m (BFC {r['bfc_1']:.3f}, {r['wall_s_1']:.1f} s) "
+              f"real-time: {100 * r['diff_rel']:+.2f} % (target 2 %)")
     if args.json:
         print(json.dumps(res, indent=1, default=float))
     return 0

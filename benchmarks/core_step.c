@@ -5,11 +5,14 @@
  * inv_s0; tf_params (as the struct); int n_warm, n_steps, n_tires; double in[TF_NIN], dt.
  * Prints the median and 90th percentile of the wall time per step [us] over n_steps steps,
  * each step advancing n_tires tires. With a second argument, a real-time patch table
- * (tire_brush.realtime.PatchTable.to_bytes), the tires step in the real-time fidelity
- * (bench_realtime.py). */
+ * (tire_brush.realtime.PatchTable.to_bytes, format 1 or 2), the tires step in the real-time
+ * fidelity (bench_realtime.py); with a third, a wet branch (int nd, nt; double depth[nd],
+ * log10_t[nt], mu[nd*nv*nT*np*4], w_dry[nd*nt*nv*nT*np], d_full, drain_scale, texture_depth),
+ * the tires are given it (tf_tire_set_wet). */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "tirecore.h"
@@ -49,26 +52,52 @@ int main(int argc, char **argv) {
     tf_table *t = tf_table_new(n[0], n[1], n[2], ax[0], ax[1], ax[2], val, inv_s0);
     if (!t) return 3;
     tf_patch *pt = NULL;
-    if (argc > 2) {                 /* the patch table: magic, 6 int32, doubles, 8-byte hash */
+    if (argc > 2 && strcmp(argv[2], "-") != 0) { /* the patch table ("-": none) */
         FILE *g = fopen(argv[2], "rb");
         if (!g) return 2;
         char magic[16];
-        int d[TF_PATCH_NAX];
-        if (fread(magic, 1, 16, g) != 16 || fread(d, sizeof(int), TF_PATCH_NAX, g) != TF_PATCH_NAX)
-            return 2;
+        int d[TF_PATCH_NAX], nd = 1, rsv;
+        if (fread(magic, 1, 16, g) != 16) return 2;
+        if (magic[15] == 2 && fread(&nd, sizeof(int), 1, g) != 1) return 2;  /* format 2 */
+        if (fread(d, sizeof(int), TF_PATCH_NAX, g) != TF_PATCH_NAX) return 2;
+        if (magic[15] == 2 && fread(&rsv, sizeof(int), 1, g) != 1) return 2;
+        double dry = 0.0, *depth = &dry;
+        if (magic[15] == 2) {
+            depth = malloc(sizeof(double) * nd);
+            if (!depth || fread(depth, sizeof(double), nd, g) != (size_t)nd) return 2;
+        }
         size_t nax = 0, nn = 1;
         for (int k = 0; k < TF_PATCH_NAX; k++) {
             nax += (size_t)d[k];
             nn *= (size_t)d[k];
         }
         size_t n0 = (size_t)d[0] * d[1] * d[2] * d[3] * 2;
-        size_t m = nax + (size_t)d[2] + n0 + TF_PATCH_NV * nn;
+        size_t m = nax + (size_t)d[2] + (size_t)nd * (n0 + TF_PATCH_NV * nn);
         double *a = malloc(sizeof(double) * m);
         if (!a || fread(a, sizeof(double), m, g) != m) return 2;
         fclose(g);
-        pt = tf_patch_new(d, a, a + nax, a + nax + d[2], a + nax + d[2] + n0);
+        pt = tf_patch_new_wet(d, nd, depth, a, a + nax, a + nax + d[2],
+                              a + nax + d[2] + (size_t)nd * n0);
         free(a);
         if (!pt) return 3;
+    }
+    tf_wet *wet = NULL;
+    double texture = 0.0;
+    if (argc > 3) {                 /* the wet branch on the friction table's nodes */
+        FILE *g = fopen(argv[3], "rb");
+        if (!g) return 2;
+        int w[2];
+        if (fread(w, sizeof(int), 2, g) != 2) return 2;
+        size_t nn = (size_t)n[0] * n[1] * n[2];
+        size_t m = (size_t)w[0] + w[1] + (size_t)w[0] * nn * 4 + (size_t)w[0] * w[1] * nn + 3;
+        double *a = malloc(sizeof(double) * m);
+        if (!a || fread(a, sizeof(double), m, g) != m) return 2;
+        fclose(g);
+        double *mu = a + w[0] + w[1], *wd = mu + (size_t)w[0] * nn * 4;
+        double *tail = wd + (size_t)w[0] * w[1] * nn;
+        wet = tf_wet_new(n[0], n[1], n[2], w[0], w[1], a, a + w[0], mu, wd, tail[0], tail[1]);
+        texture = tail[2];
+        if (!wet) return 3;
     }
     int nt = cfg[2];
     tf_tire **tires = malloc(sizeof(tf_tire *) * nt);
@@ -76,6 +105,7 @@ int main(int argc, char **argv) {
         tires[i] = tf_tire_new(&p, t);
         if (!tires[i]) return 3;
         if (pt) tf_tire_set_patch(tires[i], pt);
+        if (wet && tf_tire_set_wet(tires[i], wet, texture) != 0) return 3;
     }
     double out[TF_NOUT];
     for (int k = 0; k < cfg[0]; k++)

@@ -204,6 +204,9 @@ def _declare(lib: ctypes.CDLL) -> None:
         "tf_patch_new": (vp, [ctypes.POINTER(ctypes.c_int), dp, dp, dp, dp]),
         "tf_patch_free": (None, [vp]),
         "tf_patch_eval": (ctypes.c_int, [vp] + [ctypes.c_double] * 6 + [dp]),
+        "tf_patch_new_wet": (vp, [ctypes.POINTER(ctypes.c_int), ctypes.c_int] + [dp] * 5),
+        "tf_patch_eval_wet": (ctypes.c_int, [vp] + [ctypes.c_double] * 7 + [dp]),
+        "tf_patch_layers": (ctypes.c_int, [vp]),
         "tf_tire_set_patch": (ctypes.c_int, [vp, vp]),
     }
     for name, (res, args) in sig.items():
@@ -339,15 +342,20 @@ class CorePatch:
         vals = np.ascontiguousarray(table.values, dtype=float)
         q = np.ascontiguousarray(table.q, dtype=float)
         f0 = np.ascontiguousarray(table.f0, dtype=float)
-        self.handle = self._lib.tf_patch_new(n, _ptr(axes), _ptr(q), _ptr(f0), _ptr(vals))
+        depth = np.ascontiguousarray(table.depth, dtype=float)
+        self._keep = depth
+        self.handle = self._lib.tf_patch_new_wet(n, depth.size, _ptr(depth), _ptr(axes), _ptr(q),
+                                                 _ptr(f0), _ptr(vals))
         if not self.handle:
             raise CoreError("the tire core refused the patch table")
         self._out = np.zeros(PATCH_NOUT)
 
     def eval(self, Vx: float, Vy: float, Vr: float, Fz: float, T: float,
-             gamma: float) -> tuple[np.ndarray, int]:
-        """``tf_patch_eval``: the :data:`PATCH_NOUT` results and the flags."""
-        fl = self._lib.tf_patch_eval(self.handle, Vx, Vy, Vr, Fz, T, gamma, _ptr(self._out))
+             gamma: float, d_water: float = 0.0) -> tuple[np.ndarray, int]:
+        """``tf_patch_eval_wet``: the :data:`PATCH_NOUT` results and the flags (water depth
+        ``d_water`` [m], 0: the dry road)."""
+        fl = self._lib.tf_patch_eval_wet(self.handle, Vx, Vy, Vr, Fz, T, gamma, d_water,
+                                         _ptr(self._out))
         return self._out.copy(), int(fl)
 
     def __del__(self) -> None:

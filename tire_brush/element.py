@@ -1363,7 +1363,8 @@ class RefTire:
             for _ in range(n_sub):
                 if self.patch is not None:
                     fin = rt_advance(p, self.patch, self, h, vx - V_r, vy, V_r, Fz_road, a,
-                                     Ts, mus, gamma, q_roll)
+                                     Ts, mus, gamma, q_roll,
+                                     d_water if wet is not None else 0.0)
                     self.wc = wc
                 else:
                     fin = self._advance(h, vx - V_r, vy, V_r, Fz_road, a, b, Ts, mus, wc,

@@ -116,12 +116,14 @@ def tyre_label_document(tire: str = "passenger", grid: str | None = None,
     }
     rrc = {
         "rrc_N_per_kN": float(iso.rrc_N_per_kN), "class": iso.label_class,
-        "method": "ISO 28580 / UN R117 Annex 6 conditions, flat road (no drum correction)",
+        "method": "ISO 28580 / UN R117 Annex 6 conditions at thermal equilibrium (the tread's "
+                  "temperature from its losses and cooling), flat road (no drum correction)",
         "load_N": float(iso.load_N), "inflation_Pa": float(iso.inflation_Pa),
         "speed_m_per_s": float(iso.speed_m_s), "T_C": float(iso.T_K - 273.15),
-        "per_K": float(iso.per_K), "tread_share": float(iso.tread_share),
+        "per_K": float(iso.per_K), "per_K_isothermal": float(iso.per_K_isothermal),
+        "T_tire_C": float(iso.T_tire_K - 273.15), "tread_share": float(iso.tread_share),
     }
-    for k in ("rrc_N_per_kN", "per_K"):
+    for k in ("rrc_N_per_kN", "per_K", "per_K_isothermal", "T_tire_C"):
         if not math.isfinite(rrc[k]):
             raise InputError("the rolling-resistance model gave a non-finite number",
                              field=k, value=rrc[k])

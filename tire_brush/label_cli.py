@@ -65,8 +65,10 @@ def main(args: argparse.Namespace) -> int:
     print(f"  wet: BFC {w['bfc_candidate']:.3f} against the reference tire's "
           f"{w['bfc_reference']:.3f} at {w['T_C']:g} C, {w['water_depth_m'] * 1e3:g} mm water")
     print(f"  rolling: {r['load_N']:.0f} N, {r['inflation_Pa'] / 1e3:.0f} kPa, "
-          f"{r['speed_m_per_s'] * 3.6:.0f} km/h, {r['T_C']:g} C; change "
-          f"{100 * r['per_K']:+.2f} %/K")
+          f"{r['speed_m_per_s'] * 3.6:.0f} km/h, {r['T_C']:g} C ambient, tread at "
+          f"{r['T_tire_C']:.1f} C (thermal equilibrium); change {100 * r['per_K']:+.2f} %/K "
+          f"of the ambient ({100 * r['per_K_isothermal']:+.2f} %/K isothermal at "
+          f"{r['T_C']:g} C)")
     for n in doc["notes"]:
         print(f"  note: {n}")
     if doc["label_svg"]:

@@ -44,6 +44,10 @@ MF-Swift, FTire's real-time mode). This module is that reduced model of the same
 * **The tread temperature, camber, Mx, My, state.** As in the full model: the lumped tread
   temperature heated by ``heat_fraction`` of the friction power, the inclination an axis of
   the table, ``Mx = -delta_y Fz``, the rolling-resistance table.
+* **Water.** A table built on a grid with a wet branch has a layer per water depth (depth 0
+  the dry road's), each the steady march on the wet friction the full model reads at its
+  nodes (:func:`tire_brush.realtime_build.build_patch_table`); the water depth is read
+  linearly between the two layers about it, clamped to the layers' depths.
 
 This file is the readable reference of ``tire_brush/csrc/tirert.c``, operation for operation;
 the tests pin the two together. It imports numpy and the standard library only at module level
@@ -118,9 +122,15 @@ class PatchTable:
         direction where the slip is tiny).
     values : numpy.ndarray
         Shape ``(n_gamma, n_T, n_Fz, n_v, n_theta, n_rho, N_VALUES)``, see
-        :data:`VALUE_NAMES`.
+        :data:`VALUE_NAMES` (with a leading axis over ``depth`` when it has more than one
+        layer, as ``f0``).
     key : str
         Hash of the tire parameters, friction table and axes it was built from.
+    depth : numpy.ndarray
+        Water depths [m] of the table's layers, strictly ascending from 0 (the dry road;
+        default: that one layer). With more than one layer ``f0`` and ``values`` carry a
+        leading axis over them: each layer the patch on the grid's wet branch at that depth
+        (:func:`tire_brush.realtime_build.build_patch_table`, docs/realtime.md).
     """
 
     gamma: np.ndarray
@@ -134,9 +144,17 @@ class PatchTable:
     values: np.ndarray
     key: str = ""
     meta: dict = field(default_factory=dict, compare=False)
+    depth: np.ndarray = field(default_factory=lambda: np.zeros(1))
 
     def __post_init__(self) -> None:
         axes = self.axes()
+        d = np.asarray(self.depth, float)
+        object.__setattr__(self, "depth", d)
+        if d.ndim != 1 or d.size < 1 or d[0] != 0.0 or not np.all(np.isfinite(d)) \
+                or not np.all(np.diff(d) > 0):
+            raise InputError("must be strictly ascending water depths from 0 [m]",
+                             field="patch_table.depth", value=d.tolist())
+        lead = (d.size,) if d.size > 1 else ()
         for name, ax in zip(AXIS_NAMES, axes, strict=True):
             if ax.ndim != 1 or ax.size < 2 or not np.all(np.isfinite(ax)) \
                     or not np.all(np.diff(ax) > 0):
@@ -152,9 +170,10 @@ class PatchTable:
         if self.q.shape != self.Fz.shape or not np.all((self.q > 0) & (self.q < 1)):
             raise InputError("must lie in (0, 1), one per load node", field="patch_table.q",
                              value=np.asarray(self.q).tolist())
-        shape = (*(a.size for a in axes), N_VALUES)
-        if self.f0.shape != (*shape[:4], 2) or not np.all(np.isfinite(self.f0)):
-            raise InputError(f"must be finite with shape {(*shape[:4], 2)}",
+        shape = (*lead, *(a.size for a in axes), N_VALUES)
+        s0 = (*shape[:len(lead) + 4], 2)
+        if self.f0.shape != s0 or not np.all(np.isfinite(self.f0)):
+            raise InputError(f"must be finite with shape {s0}",
                              field="patch_table.f0", value=self.f0.shape)
         if self.values.shape != shape or not np.all(np.isfinite(self.values)):
             raise InputError(f"must be finite with shape {shape}", field="patch_table.values",
@@ -165,42 +184,69 @@ class PatchTable:
         return (self.gamma, self.T, self.Fz, self.log10_v, self.theta, self.rho)
 
     def to_bytes(self) -> bytes:
-        """The table as the FMUs read it (:meth:`from_bytes`; the native FMU's tfn_files.c):
-        the magic ``TIREFRIC-PATCH\\0\\0``, the six axis lengths (little-endian int32), the
-        axes and the values (little-endian doubles) and the FNV-1a 64 hash of all that
-        (little-endian uint64)."""
-        head = b"TIREFRIC-PATCH\0\0" + struct.pack("<6i", *(a.size for a in self.axes()))
-        body = b"".join(np.ascontiguousarray(a, "<f8").tobytes() for a in (*self.axes(),
-                                                                             self.q, self.f0))
+        """The table as the FMUs read it (:meth:`from_bytes`; the native FMU's tfn_files.c).
+
+        A dry table (one layer): the magic ``TIREFRIC-PATCH\\0\\0``, the six axis lengths
+        (little-endian int32), the axes, ``q``, ``f0`` and the values (little-endian doubles)
+        and the FNV-1a 64 hash of all that (little-endian uint64). A table with water-depth
+        layers (format 2): the magic ``TIREFRIC-PATCH\\0\\2``, the number of layers, the six
+        axis lengths and a reserved 0 (int32), the depths, then as format 1 with ``f0`` and
+        the values of every layer."""
+        if self.depth.size > 1:
+            head = b"TIREFRIC-PATCH\0\2" + struct.pack("<8i", self.depth.size,
+                                                        *(a.size for a in self.axes()), 0)
+            lead: tuple[np.ndarray, ...] = (self.depth,)
+        else:
+            head = b"TIREFRIC-PATCH\0\0" + struct.pack("<6i", *(a.size for a in self.axes()))
+            lead = ()
+        body = b"".join(np.ascontiguousarray(a, "<f8").tobytes()
+                        for a in (*lead, *self.axes(), self.q, self.f0))
         data = head + body + np.ascontiguousarray(self.values, "<f8").tobytes()
         return data + struct.pack("<Q", fnv1a64(data))
 
     @classmethod
     def from_bytes(cls, data: bytes, key: str = "", *, verify: bool = True) -> PatchTable:
-        """Read :meth:`to_bytes`' format (``verify=False`` skips the checksum, which takes a
-        few seconds in Python: for a file whose sha256 was checked already)."""
-        if len(data) < 40 or data[:16] != b"TIREFRIC-PATCH\0\0":
-            raise InputError("not a patch table", field="patch_table", value=len(data))
-        n = struct.unpack("<6i", data[16:40])
-        if min(n) < 2:
-            raise InputError("axis lengths must be >= 2", field="patch_table", value=n)
+        """Read :meth:`to_bytes`' formats, the dry one (1) and the one with water-depth layers
+        (2) (``verify=False`` skips the checksum, which takes a few seconds in Python: for a
+        file whose sha256 was checked already)."""
+        if len(data) >= 48 and data[:16] == b"TIREFRIC-PATCH\0\2":
+            nd, *nl, _ = struct.unpack("<8i", data[16:48])
+            start = 48
+        elif len(data) >= 40 and data[:16] == b"TIREFRIC-PATCH\0\0":
+            nd, nl = 1, list(struct.unpack("<6i", data[16:40]))
+            start = 40
+        else:
+            raise InputError("not a patch table (format 1 or 2)", field="patch_table",
+                             value=len(data))
+        n = tuple(nl)
+        if min(n) < 2 or nd < 1:
+            raise InputError("axis lengths must be >= 2 and layers >= 1", field="patch_table",
+                             value=(nd, n))
         n0 = n[0] * n[1] * n[2] * n[3] * 2
-        total = sum(n) + n[2] + n0 + int(np.prod(n)) * N_VALUES
-        if len(data) != 48 + 8 * total or \
+        total = (nd if start == 48 else 0) + sum(n) + n[2] + nd * (n0 + int(np.prod(n)) *
+                                                                   N_VALUES)
+        if len(data) != start + 8 + 8 * total or \
                 (verify and struct.unpack("<Q", data[-8:])[0] != fnv1a64(data[:-8])):
             raise InputError("wrong size for its axes or checksum mismatch (corrupt file)",
                              field="patch_table", value=len(data))
-        arr = np.frombuffer(data[:-8], "<f8", offset=40).astype(float)
-        axes, off = [], 0
+        arr = np.frombuffer(data[:-8], "<f8", offset=start).astype(float)
+        off = 0
+        depth = np.zeros(1)
+        lead: tuple[int, ...] = ()
+        if start == 48:
+            depth = arr[:nd].copy()
+            off = nd
+            lead = (nd,) if nd > 1 else ()
+        axes = []
         for k in n:
             axes.append(arr[off:off + k].copy())
             off += k
         q = arr[off:off + n[2]].copy()
         off += n[2]
-        f0 = arr[off:off + n0].reshape((*n[:4], 2)).copy()
-        off += n0
-        vals = arr[off:].reshape((*tuple(n), N_VALUES)).copy()
-        return cls(*axes, q=q, f0=f0, values=vals, key=key)
+        f0 = arr[off:off + nd * n0].reshape((*lead, *n[:4], 2)).copy()
+        off += nd * n0
+        vals = arr[off:].reshape((*lead, *n, N_VALUES)).copy()
+        return cls(*axes, q=q, f0=f0, values=vals, key=key, depth=depth)
 
 
 # ---------------------------------------------------------------------------- evaluation
@@ -225,7 +271,9 @@ class PatchEval:
     """Python mirror of the core's evaluation of a patch table (``patch_eval`` of tirert.c).
 
     Call with the patch slip velocity ``(Vx, Vy)`` [m/s], the rolling speed ``V_r`` [m/s], the
-    load ``Fz`` [N], temperature ``T`` [K] and inclination ``gamma`` [rad]; returns
+    load ``Fz`` [N], temperature ``T`` [K], inclination ``gamma`` [rad] and the water depth
+    ``d_water`` [m] (default 0, the dry road; linear between the table's two layers about it,
+    clamped to their depths as the full model clamps the wet branch); returns
     ``(F, J, extra, flags)``: ``F = [Fx, Fy, Mz, M_belt]``, ``J`` their derivatives by ``Vx``
     and ``Vy`` (row-major 4 x 2), ``extra = [mu_slide, sliding_fraction, dT_flash_max, power
     [W]]``, and 2 when ``T`` lies outside the table's temperature axis.
@@ -239,9 +287,13 @@ class PatchEval:
         self.vmin = math.pow(10.0, float(table.log10_v[0]))
         self.q = table.q.tolist()
         self.f0 = table.f0.ravel().tolist()
+        self.depth = table.depth.tolist()
+        self.lval = int(np.prod(self.n)) * N_VALUES
+        self.lf0 = self.n[0] * self.n[1] * self.n[2] * self.n[3] * 2
 
     def __call__(self, Vx: float, Vy: float, Vr: float, Fz: float, T: float,
-                 gamma: float) -> tuple[list[float], list[float], list[float], int]:
+                 gamma: float, d_water: float = 0.0
+                 ) -> tuple[list[float], list[float], list[float], int]:
         sx = -1.0 if Vx < 0.0 else 1.0
         sg = -1.0 if gamma < 0.0 else 1.0
         sv = -1.0 if Vr < 0.0 else 1.0
@@ -280,35 +332,46 @@ class PatchEval:
             base += loc[k][0] * strides[k]
         # the outer (gamma, T, Fz, v) cell's first node in the zero-slip force array
         ob = ((loc[0][0] * n[1] + loc[1][0]) * n[2] + loc[2][0]) * n[3] + loc[3][0]
-        # the 16 outer corners (gamma, T, Fz, v), each with its 2 x 2 (theta, rho) cell
         g0x = g0y = 0.0
-        for c in range(16):
-            w = 1.0
-            off = base
-            for k in range(4):
-                bit = (c >> (3 - k)) & 1
-                f = loc[k][1]
-                w *= f if bit else 1.0 - f
-                off += bit * strides[k]
-            if w == 0.0:
+        # the water depth: the two layers about it, clamped to the layers' depths (a dry-only
+        # table: the one layer)
+        il, fl = 0, 0.0
+        if len(self.depth) > 1:
+            il, fl, _ = _locate(self.depth, d_water)
+        for lay in range(2):
+            wl = fl if lay else 1.0 - fl
+            if wl == 0.0:
                 continue
-            o0 = 2 * (ob + (off - base) // strides[3])
-            g0x += w * self.f0[o0]
-            g0y += w * self.f0[o0 + 1]
-            ft, fr = loc[4][1], loc[5][1]
-            p00 = off
-            p01 = off + strides[5]
-            p10 = off + strides[4]
-            p11 = p10 + strides[5]
-            v = self.val
-            for q in range(N_VALUES):
-                a00, a01, a10, a11 = v[p00 + q], v[p01 + q], v[p10 + q], v[p11 + q]
-                lo = a00 + fr * (a01 - a00)
-                hi = a10 + fr * (a11 - a10)
-                acc[q] += w * (lo + ft * (hi - lo))
-                if q < 4:
-                    dr[q] += w * ((a01 - a00) + ft * ((a11 - a10) - (a01 - a00)))
-                    dth[q] += w * (hi - lo)
+            lbase = base + (il + lay) * self.lval
+            lob = ob + (il + lay) * (self.lf0 // 2)
+            # the 16 outer corners (gamma, T, Fz, v), each with its 2 x 2 (theta, rho) cell
+            for c in range(16):
+                w = wl
+                off = lbase
+                for k in range(4):
+                    bit = (c >> (3 - k)) & 1
+                    f = loc[k][1]
+                    w *= f if bit else 1.0 - f
+                    off += bit * strides[k]
+                if w == 0.0:
+                    continue
+                o0 = 2 * (lob + (off - lbase) // strides[3])
+                g0x += w * self.f0[o0]
+                g0y += w * self.f0[o0 + 1]
+                ft, fr = loc[4][1], loc[5][1]
+                p00 = off
+                p01 = off + strides[5]
+                p10 = off + strides[4]
+                p11 = p10 + strides[5]
+                v = self.val
+                for q in range(N_VALUES):
+                    a00, a01, a10, a11 = v[p00 + q], v[p01 + q], v[p10 + q], v[p11 + q]
+                    lo = a00 + fr * (a01 - a00)
+                    hi = a10 + fr * (a11 - a10)
+                    acc[q] += w * (lo + ft * (hi - lo))
+                    if q < 4:
+                        dr[q] += w * ((a01 - a00) + ft * ((a11 - a10) - (a01 - a00)))
+                        dth[q] += w * (hi - lo)
         ir, it = loc[5][2], loc[4][2]
         for q in range(4):
             dr[q] *= ir
@@ -343,11 +406,13 @@ class PatchEval:
 
 
 def evaluate(table: PatchTable, Vx: Any, Vy: Any, Vr: Any, Fz: Any, T: Any,
-             gamma: Any = 0.0) -> dict[str, np.ndarray]:
+             gamma: Any = 0.0, d_water: Any = 0.0) -> dict[str, np.ndarray]:
     """The table's patch response at arrays of points (numpy broadcasting): ``Fx, Fy, Mz``
-    [N, N m], ``mu_slide``, ``sliding_fraction``, ``dT_flash_max``, ``power`` [W]."""
+    [N, N m], ``mu_slide``, ``sliding_fraction``, ``dT_flash_max``, ``power`` [W] (water
+    depth ``d_water`` [m])."""
     ev = PatchEval(table)
-    arrs = np.broadcast_arrays(*(np.asarray(x, float) for x in (Vx, Vy, Vr, Fz, T, gamma)))
+    arrs = np.broadcast_arrays(*(np.asarray(x, float) for x in (Vx, Vy, Vr, Fz, T, gamma,
+                                                                 d_water)))
     res = np.zeros((*arrs[0].shape, 8))
     for idx in np.ndindex(arrs[0].shape):
         F, _, ex, _ = ev(*(float(a[idx]) for a in arrs))
@@ -364,7 +429,7 @@ FLAG_T_RANGE = 2
 
 def rt_advance(p: Any, ev: PatchEval, s: Any, h: float, Vsx: float, Vsy: float, V_r: float,
                Fz: float, a: float, Ts: float, mus: float, gamma: float,
-               q_roll: float) -> list[float]:
+               q_roll: float, d_water: float = 0.0) -> list[float]:
     """One sub-step ``h`` [s] of the real-time fidelity (``rt_advance`` of tirert.c): belt,
     yaw and the patch's slip velocity by linearly implicit Euler, the tread temperature by
     implicit Euler (module docstring).
@@ -380,10 +445,11 @@ def rt_advance(p: Any, ev: PatchEval, s: Any, h: float, Vsx: float, Vsy: float, 
         velocity, 2) [m/s], ``F`` (the patch force, 2) [N], ``M`` (the moment on the belt) [N m],
         ``psi`` (belt yaw) [rad], ``wpsi`` (its rate) [rad/s], ``T_tread`` [K], ``flags``;
         updated in place.
-    h, Vsx, Vsy, V_r, Fz, a, Ts, mus, gamma, q_roll
+    h, Vsx, Vsy, V_r, Fz, a, Ts, mus, gamma, q_roll, d_water
         Sub-step [s], the rim's slip velocity and the rolling speed [m/s], the road's load
-        [N], the patch half-length at it [m], T_surface [K], mu_scale, inclination [rad] and
-        the tread's share of the rolling loss [W].
+        [N], the patch half-length at it [m], T_surface [K], mu_scale, inclination [rad],
+        the tread's share of the rolling loss [W] and the water depth [m] (0 without a wet
+        branch).
 
     Returns
     -------
@@ -413,7 +479,7 @@ def rt_advance(p: Any, ev: PatchEval, s: Any, h: float, Vsx: float, Vsy: float, 
     # 2012, ch. 4): the patch at mu_scale and slip V responds as mu_scale times the patch at
     # 1 and V / mu_scale (sliding speeds and friction power scale once more)
     ims = 1.0 / mus
-    F, J, ex, fl = ev(s.Vb[0] * ims, s.Vb[1] * ims, V_r, Fz, T0, gamma)
+    F, J, ex, fl = ev(s.Vb[0] * ims, s.Vb[1] * ims, V_r, Fz, T0, gamma, d_water)
     s.flags |= fl
     F0x, F0y, Mz0, M0 = mus * F[0], mus * F[1], mus * F[2], mus * F[3]
     frac = ex[1]

@@ -5,6 +5,7 @@ the full model's physics whatever it becomes (docs/realtime.md)."""
 
 from __future__ import annotations
 
+import ctypes
 import hashlib
 import math
 import os
@@ -16,6 +17,7 @@ import numpy as np
 
 from tirefric.errors import InputError
 
+from . import ccore
 from .friction import as_table
 from .realtime import (
     AXIS_NAMES,
@@ -28,6 +30,7 @@ from .realtime import (
     THETA_NODES,
     PatchTable,
 )
+from .slip import V_FLOOR
 from .steady import N_STEADY, TOL, SteadyBrush
 
 
@@ -43,9 +46,12 @@ def default_axes(friction_T: np.ndarray) -> dict[str, np.ndarray]:
 
 
 def table_key(params: Any, table: Any, axes: dict[str, np.ndarray], n_cells: int,
-              tol: float) -> str:
+              tol: float, wet: Any | None = None, drain_scale: float = 1.0,
+              depths: Any = None) -> str:
     """Hash of what a patch table depends on: the tire parameters, the friction table's axes,
-    values and blend length, the axes and the march's settings."""
+    values and blend length, the axes and the march's settings, and the wet branch (its
+    hash, water depths and drainage times, the drainage scale and the layers' depths
+    ``depths``, default the branch's) when the table has one."""
     h = hashlib.sha256()
     h.update(repr(params).encode())
     for a in (table.log10_v, table.T, table.log10_p, table.values):
@@ -54,14 +60,105 @@ def table_key(params: Any, table: Any, axes: dict[str, np.ndarray], n_cells: int
     for name in AXIS_NAMES:
         h.update(np.ascontiguousarray(axes[name], float).tobytes())
     h.update(repr((n_cells, tol, "rho_n = rho / (rho + q (1 - rho))", "f0")).encode())
+    if wet is not None:
+        h.update(repr(("wet", str(wet.meta.get("hash", "")), float(drain_scale),
+                       "U = V_r + V_sx / 2")).encode())
+        for name in ("water_depth", "log10_t_drain"):
+            h.update(np.ascontiguousarray(wet.axes[name], float).tobytes())
+        for name in sorted(wet.variables):
+            h.update(np.ascontiguousarray(wet.variables[name], float).tobytes())
+        if depths is not None:
+            h.update(np.ascontiguousarray(depths, float).tobytes())
     return h.hexdigest()
+
+
+def _wet_layer_arrays(table: Any, wet: Any, d: float) -> tuple[np.ndarray, ...]:
+    """The wet branch at the water depth ``d`` [m] on the friction table's nodes: the cold and
+    hot friction at dry share 0 and 1, shape (nv, nT, np) each, and the dry share at every
+    drainage-time node, (nt, nv, nT, np) (:mod:`lookup.grid.wet`); between the branch's depth
+    nodes each linear in the depth, as the core's ``step_table`` reads them (clamped to the
+    nodes)."""
+    for name, a, b in (("log10_v", table.log10_v, wet.axes["log10_v"]),
+                       ("T", table.T, wet.axes["T"]), ("log10_p", table.log10_p,
+                                                         wet.axes["log10_p"])):
+        if a.shape != b.shape or not np.allclose(a, b, rtol=0, atol=1e-9):
+            raise InputError("the wet branch has other nodes than the friction table",
+                             field=name)
+    ax = np.asarray(wet.axes["water_depth"], float)
+    k, f = _cell(ax, d)
+    v = wet.variables
+    return tuple((1.0 - f) * np.asarray(v[name][k], float) + f * np.asarray(v[name][k + 1],
+                                                                             float)
+                 for name in ("mu_wet_cold_w0", "mu_wet_cold_w1", "mu_wet_hot_w0",
+                              "mu_wet_hot_w1", "w_dry"))
+
+
+def _cell(ax: np.ndarray, x: float) -> tuple[int, float]:
+    """The cell ``k`` of the ascending axis ``ax`` holding ``x`` and the fraction ``f`` in it,
+    clamped to the axis (``f`` 0 below it, 1 above; NaN reads the first node): the core's
+    ``locate_arr``."""
+    n = ax.size
+    if not (x > ax[0]):
+        return 0, 0.0
+    if not (x < ax[n - 1]):
+        return n - 2, 1.0
+    k = int(np.searchsorted(ax, x, side="right")) - 1
+    return k, float((x - ax[k]) / (ax[k + 1] - ax[k]))
+
+
+def _wet_march(params: Any, table: Any, n_cells: int, tol: float, wet: tuple, Vsx: np.ndarray,
+               Vsy: np.ndarray, Vr: np.ndarray, Fz: np.ndarray, T: float,
+               g: float) -> np.ndarray:
+    """The steady march at each point on the wet friction the full model reads there
+    (``step_table`` of tirecore.c, :meth:`tire_brush.transient.TransientBrushTire.set_wet`):
+    at the layer's water depth and the drainage time ``drain_scale 2a / U`` of the point,
+    ``U = (|v_x| + |V_r|) / 2`` the entrainment speed with ``v_x = V_r + V_sx`` (the table
+    holds the braking side, ``V_sx >= 0``: docs/realtime.md), the dry share linear in
+    log10 t_drain between the branch's nodes (clamped to them) and the friction
+    ``(1 - w) mu_w0 + w mu_w1`` (:mod:`tire_brush.wet_friction`). Rows as
+    :meth:`~tire_brush.steady.SteadyBrush.patch_response`'s."""
+    c0, c1, h0, h1, wd, lt_ax, drain_scale = wet
+    # the march at T reads the two temperature rows about it (clamped to the axis): the
+    # friction is made for those only (as the core's step_table)
+    Tax = np.asarray(table.T, float)
+    iT = 0 if not T > Tax[0] else min(int(np.searchsorted(Tax, T, side="right")) - 1,
+                                      Tax.size - 2)
+    r = slice(iT, iT + 2)
+    c0, c1, h0, h1, wd = c0[:, r], c1[:, r], h0[:, r], h1[:, r], wd[:, :, r]
+    T_rows = Tax[r]
+    P = ccore.core_params(params, n_elements=n_cells, dt_internal=1.0, tol=tol,
+                          v_floor=V_FLOOR, thermal=False, rigid=True, massless=False)
+    lib = ccore.load()
+    out = np.zeros((Vsx.size, ccore.STEADY_OUT))
+    o = np.zeros(ccore.STEADY_OUT)
+    vals = np.array(table.values[:, r], float)
+    for j in range(Vsx.size):
+        a, _ = params.patch.size(float(Fz[j]))
+        U = 0.5 * (abs(float(Vr[j] + Vsx[j])) + abs(float(Vr[j])))
+        lt = math.log10(drain_scale * (2.0 * a / U)) if U > 0.0 and a > 0.0 else math.inf
+        i, f = _cell(lt_ax, lt)                     # the drainage-time cell
+        ws = (1.0 - f) * wd[i] + f * wd[i + 1]
+        ws = np.where(ws > 0.0, ws, 0.0)
+        ws = np.where(ws > 1.0, 1.0, ws)
+        vals[..., 0] = (1.0 - ws) * c0 + ws * c1
+        vals[..., 1] = (1.0 - ws) * h0 + ws * h1
+        ct = ccore.CoreTable(table.log10_v, T_rows, table.log10_p, vals, table.inv_s0)
+        pts = np.ascontiguousarray([[Vsx[j], Vsy[j], Vr[j], Fz[j], g]], dtype=float)
+        rc = lib.tf_steady(ctypes.byref(P), ct.handle, n_cells, 1, ccore._ptr(pts), float(T),
+                           1.0, ccore._ptr(o))
+        if rc != 0:
+            raise InputError("the tire core refused the operating point", field="points",
+                             value=pts.tolist())
+        out[j] = o
+    return out.T.copy()
 
 
 def _layer(args: tuple) -> tuple[np.ndarray, np.ndarray]:
     """One (gamma, T) layer of the table (a worker's job): the march at every (Fz, v, theta,
     rho) node with theta >= 0, or every theta when gamma > 0; and the force at zero slip (of
     the camber alone) at every (Fz, v), which the slip's-frame values leave out."""
-    params, friction, n_cells, tol, g, T, Fz_ax, lv_ax, th_ax, rho_ax = args
+    params, friction, n_cells, tol, g, T, Fz_ax, lv_ax, th_ax, rho_ax = args[:10]
+    wet = args[10] if len(args) > 10 else None
     sb = SteadyBrush(params, friction, n_elements=n_cells, tol=tol, rigid_carcass=True)
     F, LV, TH, RN = np.meshgrid(Fz_ax, lv_ax, th_ax, rho_ax, indexing="ij")
     q = np.interp(F, Fz_ax, full_sliding_share(params, Fz_ax))
@@ -76,8 +173,12 @@ def _layer(args: tuple) -> tuple[np.ndarray, np.ndarray]:
     if g == 0.0:
         todo &= TH >= 0.0
     sel = np.flatnonzero(todo.ravel())
-    r = sb.patch_response(Vsx.ravel()[sel], Vsy.ravel()[sel], Vr.ravel()[sel],
-                          F.ravel()[sel], float(T), gamma=float(g))
+    if wet is None:
+        r = sb.patch_response(Vsx.ravel()[sel], Vsy.ravel()[sel], Vr.ravel()[sel],
+                              F.ravel()[sel], float(T), gamma=float(g))
+    else:
+        r = _wet_march(params, sb.table, n_cells, tol, wet, Vsx.ravel()[sel],
+                       Vsy.ravel()[sel], Vr.ravel()[sel], F.ravel()[sel], float(T), float(g))
     Fx, Fy, Mz, _, mu_sl, frac, dT, _, P, Mb = r
     f0 = np.zeros((Fz_ax.size, lv_ax.size, 2))
     if g > 0.0:
@@ -127,7 +228,8 @@ def full_sliding_share(params: Any, Fz: Any) -> np.ndarray:
 
 def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None = None,
                       n_cells: int | None = None, tol: float | None = None,
-                      processes: int = 1) -> PatchTable:
+                      processes: int = 1, wet: Any | None = None,
+                      drain_scale: float = 1.0, depths: Any = None) -> PatchTable:
     """Tabulate the steady patch response for the real-time fidelity (module docstring).
 
     Parameters
@@ -142,6 +244,19 @@ def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None
         The march's settings (default those of :mod:`tire_brush.steady`).
     processes
         Worker processes (layers of (gamma, T) run in parallel).
+    wet
+        The grid's wet branch (:class:`lookup.grid.wet.WetGrid`, on the friction table's
+        nodes) or None. With it the table has a layer at each of the branch's water depths:
+        depth 0 the dry road's, the others the march on the wet friction the full model reads
+        at each node (its drainage time from the node's speed and load, :func:`_wet_march`).
+    drain_scale
+        ``(D / 2R)^2`` of the drainage time, as :meth:`~tire_brush.transient.
+        TransientBrushTire.set_wet` takes it (the FMUs: 1).
+    depths
+        Water depths [m] of the layers, strictly ascending from 0 (default: the branch's
+        nodes); a layer between the branch's nodes is marched on the branch read at that
+        depth, as the full model reads it (fewer interpolation errors between them at the
+        cost of a layer each: docs/realtime.md).
     """
     table = as_table(friction)
     n_cells = N_STEADY if n_cells is None else n_cells
@@ -152,20 +267,42 @@ def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None
             if k not in AXIS_NAMES:
                 raise InputError(f"unknown axis (one of {AXIS_NAMES})", field="axes", value=k)
             ax[k] = np.asarray(v, float)
-    jobs = [(params, table, n_cells, tol, float(g), float(T), ax["Fz"], ax["log10_v"],
-             ax["theta"], ax["rho"]) for g in ax["gamma"] for T in ax["T"]]
+    if wet is None:
+        depths = [0.0]
+    elif depths is None:
+        depths = [float(d) for d in wet.axes["water_depth"]]
+    else:
+        depths = [float(d) for d in depths]
+        if not depths or depths[0] != 0.0 or not all(math.isfinite(d) for d in depths) or \
+                not bool(np.all(np.diff(depths) > 0)):
+            raise InputError("must be strictly ascending water depths from 0 m",
+                             field="depths", value=depths)
+    if not (math.isfinite(drain_scale) and drain_scale > 0):
+        raise InputError("must be a finite number > 0", field="drain_scale", value=drain_scale)
+    jobs = []
+    for d in depths:
+        extra: tuple = ()
+        if d > 0.0:
+            extra = ((*_wet_layer_arrays(table, wet, d),
+                      np.asarray(wet.axes["log10_t_drain"], float), float(drain_scale)),)
+        jobs += [(params, table, n_cells, tol, float(g), float(T), ax["Fz"], ax["log10_v"],
+                  ax["theta"], ax["rho"], *extra) for g in ax["gamma"] for T in ax["T"]]
     if processes > 1:
         import multiprocessing as mp
         with mp.get_context("fork").Pool(processes) as pool:
             layers = pool.map(_layer, jobs, chunksize=1)
     else:
         layers = [_layer(j) for j in jobs]
-    lead = (ax["gamma"].size, ax["T"].size)
+    lead = (len(depths), ax["gamma"].size, ax["T"].size)
+    if len(depths) == 1:
+        lead = lead[1:]
     vals = np.stack([v for v, _ in layers]).reshape((*lead, *layers[0][0].shape))
     f0 = np.stack([f for _, f in layers]).reshape((*lead, *layers[0][1].shape))
     return PatchTable(ax["gamma"], ax["T"], ax["Fz"], ax["log10_v"], ax["theta"], ax["rho"],
                       full_sliding_share(params, ax["Fz"]), f0, vals,
-                      key=table_key(params, table, ax, n_cells, tol))
+                      key=table_key(params, table, ax, n_cells, tol, wet, drain_scale,
+                                    None if wet is None else depths),
+                      depth=np.array(depths))
 
 
 def cache_dir() -> Path:
@@ -174,19 +311,24 @@ def cache_dir() -> Path:
 
 
 def cached_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None = None,
-                       processes: int = 2,
-                       directory: str | Path | None = None) -> tuple[PatchTable, Path]:
+                       processes: int = 2, directory: str | Path | None = None,
+                       wet: Any | None = None, drain_scale: float = 1.0,
+                       depths: Any = None) -> tuple[PatchTable, Path]:
     """:func:`build_patch_table` at the default march settings (and the default axes, or those
-    of ``axes`` given), cached on disk by :func:`table_key` (the tire parameters, the friction
-    table, the axes and settings): a table is built once per tire, grid and axes. Returns the
-    table and its file (:meth:`~tire_brush.realtime.PatchTable.to_bytes`' format)."""
+    of ``axes`` given; with the layers of the wet branch ``wet`` when given), cached on disk
+    by :func:`table_key` (the tire parameters, the friction table, the axes and settings, the
+    wet branch): a table is built once per tire, grid and axes. Returns the table and its
+    file (:meth:`~tire_brush.realtime.PatchTable.to_bytes`' format)."""
     table = as_table(friction)
     ax = default_axes(np.asarray(table.T, float))
     for k, v in (axes or {}).items():
         if k not in AXIS_NAMES:
             raise InputError(f"unknown axis (one of {AXIS_NAMES})", field="axes", value=k)
         ax[k] = np.asarray(v, float)
-    key = table_key(params, table, ax, N_STEADY, TOL)
+    if wet is not None and depths is None:
+        depths = [float(d) for d in wet.axes["water_depth"]]
+    key = table_key(params, table, ax, N_STEADY, TOL, wet, drain_scale,
+                    None if wet is None else depths)
     d = Path(directory) if directory is not None else cache_dir()
     path = d / f"patch-{key[:24]}.bin"
     if path.is_file():
@@ -194,7 +336,8 @@ def cached_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | Non
             return PatchTable.from_bytes(path.read_bytes(), key=key, verify=False), path
         except InputError:
             pass                                    # a damaged cache file: build again
-    pt = build_patch_table(params, table, axes=ax, processes=processes)
+    pt = build_patch_table(params, table, axes=ax, processes=processes, wet=wet,
+                           drain_scale=drain_scale, depths=depths)
     d.mkdir(parents=True, exist_ok=True)
     with tempfile.NamedTemporaryFile(dir=d, delete=False, suffix=".tmp") as f:
         f.write(pt.to_bytes())
@@ -204,11 +347,12 @@ def cached_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | Non
 
 def settled(tire: Any, kappa: float, alpha: float, vx: float, Fz: float, T: float, *,
             gamma: float = 0.0, dt: float = 1e-3, distance: float = 6.0,
-            tail: int = 50) -> list[float]:
+            tail: int = 50, water_depth: float = 0.0) -> list[float]:
     """The outputs of a transient tire (either fidelity) held at slip ``kappa``, slip angle
-    ``alpha`` [rad], speed ``vx`` [m/s], load ``Fz`` [N], temperature ``T`` [K] and
-    inclination ``gamma`` [rad] from rest until it has rolled ``distance`` [m] (at least 0.3
-    s): the mean of the last ``tail`` steps' outputs (:data:`tire_brush.signals.OUTPUTS`)."""
+    ``alpha`` [rad], speed ``vx`` [m/s], load ``Fz`` [N], temperature ``T`` [K],
+    inclination ``gamma`` [rad] and water depth ``water_depth`` [m] from rest until it has
+    rolled ``distance`` [m] (at least 0.3 s): the mean of the last ``tail`` steps' outputs
+    (:data:`tire_brush.signals.OUTPUTS`)."""
     tire.reset()
     R = tire.params.R_e
     omega = vx * (1.0 + kappa) / R
@@ -216,7 +360,7 @@ def settled(tire: Any, kappa: float, alpha: float, vx: float, Fz: float, T: floa
     n = max(int(0.3 / dt), int(distance / (vx * dt)), tail)
     acc = []
     for k in range(n):
-        o = tire.step_array(dt, vx, vy, omega, Fz, T, 1.0, gamma)
+        o = tire.step_array(dt, vx, vy, omega, Fz, T, 1.0, gamma, water_depth)
         if k >= n - tail:
             acc.append(o)
     return np.mean(acc, axis=0).tolist()

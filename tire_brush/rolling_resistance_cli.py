@@ -83,12 +83,14 @@ def main(args: argparse.Namespace) -> int:
                    "table_inflation_Pa": tire.patch.p_inflation, "points": rows})
         return 0
     print(f"tire {tire.name} ({rr.size}), compound {compound.name}")
-    print(f"ISO 28580: {iso.speed_m_s * 3.6:.0f} km/h, {iso.T_K - 273.15:.0f} C, "
+    print(f"ISO 28580: {iso.speed_m_s * 3.6:.0f} km/h, {iso.T_K - 273.15:.0f} C ambient, "
           f"Fz = {iso.load_N:.0f} N (80 % of {rr.load_index_load:.0f} N, LI "
           f"{rr.load_index}), {iso.inflation_Pa / 1e3:.0f} kPa")
     print(f"  RRC = {iso.rrc_N_per_kN:.2f} N/kN, EU label class {iso.label_class}, "
-          f"tread share {iso.tread_share:.3f}")
-    print(f"  change per K (20-30 C): {100 * iso.per_K:+.2f} %/K "
+          f"tread share {iso.tread_share:.3f}, at the thermal equilibrium: tread "
+          f"{iso.T_tire_K - 273.15:.1f} C")
+    print(f"  change per K of the ambient (20-30 C): {100 * iso.per_K:+.2f} %/K; isothermal "
+          f"at {iso.T_K - 273.15:.0f} C: {100 * iso.per_K_isothermal:+.2f} %/K "
           f"(ISO 28580 temperature correction: -0.80 %/K)")
     print(f"table at {tire.patch.p_inflation / 1e3:.0f} kPa (My in ISO-W, forward rolling):")
     print_table(rows, KEYS)

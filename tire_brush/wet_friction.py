@@ -53,7 +53,7 @@ import numpy as np
 from tirefric.errors import InputError
 
 from .friction import BranchTable, GridFriction
-from .hydroplaning import lifted_share
+from .hydroplaning import lifted_share, load_lift
 from .params import TireParams
 from .steady import SteadyBrush
 
@@ -150,16 +150,24 @@ class WetTireFriction:
         Water depth, texture and drainage.
     hydroplaning
         Apply the lift of :mod:`tire_brush.hydroplaning` (default True).
+    partial_lift
+        Add the partial lift of the entering film below full hydroplaning (Horne's
+        (V / V_p)^2 with Gallaway's V_p, :func:`tire_brush.hydroplaning.load_lift`); default
+        False: measured against the regulation's reference-tire windows it lifts far too
+        much on the test's 1 mm (docs/physics.md sec. 7a), so it is a study option, not the
+        model (the transient core does not carry it).
     n_elements
         Cells of the steady brush (None: its default).
     """
 
     def __init__(self, params: TireParams, dry_grid: Any, wet_grid: Any, road: WetRoad, *,
-                 hydroplaning: bool = True, n_elements: int | None = None) -> None:
+                 hydroplaning: bool = True, partial_lift: bool = False,
+                 n_elements: int | None = None) -> None:
         if road.water_depth > 0 and wet_grid is None:
             raise InputError("a wet road needs a grid with a wet branch", field="grid")
         self.params, self.dry_grid, self.wet_grid, self.road = params, dry_grid, wet_grid, road
         self.hydroplaning = bool(hydroplaning)
+        self.partial_lift = bool(partial_lift)
         self._kw = {} if n_elements is None else {"n_elements": n_elements}
         self._dry = SteadyBrush(params, dry_grid, **self._kw) if road.water_depth == 0 else None
         self._by_point: dict[tuple[float, float, float], SteadyBrush] = {}
@@ -170,9 +178,10 @@ class WetTireFriction:
         """Share of the load carried by the water [1] at forward speed ``vx`` [m/s]."""
         if not self.hydroplaning or self.road.water_depth == 0:
             return np.zeros(np.shape(vx))
-        return lifted_share(vx, self.road.water_depth, self.params.patch.p_inflation,
-                            self.road.tread_depth, self.params.tread.void_ratio,
-                            self.road.texture_depth)
+        law = load_lift if self.partial_lift else lifted_share
+        return law(vx, self.road.water_depth, self.params.patch.p_inflation,
+                   self.road.tread_depth, self.params.tread.void_ratio,
+                   self.road.texture_depth)
 
     def t_drain(self, vx: float, Fz_road: float, kappa: float = 0.0) -> float:
         """Drainage time [s] at forward speed ``vx`` [m/s], road load ``Fz_road`` [N] and

@@ -247,6 +247,7 @@ def simulate_braking_fmu(
     mu_scale: float | Callable[[float], float] = 1.0,
     unzipdir: str | Path | None = None,
     instance_name: str = "quarter_car",
+    water_depth: float = 0.0,
 ) -> CosimResult:
     """Brake the quarter car from ``v0`` with the tire force from the FMU (module docstring).
 
@@ -280,6 +281,9 @@ def simulate_braking_fmu(
         temporary folder, removed afterwards.
     instance_name
         FMI instance name.
+    water_depth
+        Water on the road [m] (FMU input ``water_depth``, held over the stop; read by an FMU
+        whose grid has a wet branch).
 
     Returns
     -------
@@ -324,6 +328,11 @@ def simulate_braking_fmu(
                          "(the FMU computes the slip from it)", field="radius",
                          value=car.radius)
 
+    if water_depth and not (math.isfinite(water_depth) and water_depth > 0 and
+                            "water_depth" in md_vars):
+        raise InputError("needs a finite depth >= 0 m (> 0: an FMU with the input "
+                         "water_depth)", field="water_depth", value=water_depth)
+
     own_dir = unzipdir is None
     unzip = fmpy.extract(str(fmu)) if own_dir else str(unzipdir)
     slave = FMU2Slave(guid=md.guid, unzipDirectory=unzip,
@@ -342,6 +351,8 @@ def simulate_braking_fmu(
         slave.setupExperiment(startTime=0.0)
         slave.enterInitializationMode()
         _set(slave, md_vars, start)
+        if water_depth:
+            slave.setReal([md_vars["water_depth"].valueReference], [float(water_depth)])
         x, v, omega, Tb, t = 0.0, float(v0), float(v0) / R, float(brake_torque_initial), 0.0
         road = mu_scale if callable(mu_scale) else (lambda _x: float(mu_scale))
         slave.setReal(vin, [v, 0.0, omega, Fz, float(T_ambient), float(road(x))])

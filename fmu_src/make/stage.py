@@ -92,7 +92,10 @@ class BuildOptions:
         grid, cached) and its parameter ``fidelity`` starts at 1 (docs/realtime.md).
     realtime_axes : dict or None
         Axes of the patch table by :data:`tire_brush.realtime.AXIS_NAMES` where they differ
-        from the defaults (coarser ones build faster and interpolate worse: docs/realtime.md).
+        from the defaults (coarser ones build faster and interpolate worse: docs/realtime.md),
+        and ``"water_depth"``: the water depths [m] of its layers on a grid with a wet branch
+        (default the branch's depth nodes; layers between them read the branch as the full
+        model does).
     """
 
     n_elements: int = N_TRANSIENT
@@ -300,7 +303,7 @@ def stage_resources(tire: TireParams, grid: Any, directory: str | Path,
         (data / WET_FILE).write_bytes(wet_data)
     s0 = float(grid.meta["s0_m"]) if options.s0 is None else float(options.s0)
     patch_data, realtime = _patch_resource(tire, grid, s0, options.fidelity,
-                                           options.realtime_axes)
+                                           options.realtime_axes, wet=bool(wet_data))
     if patch_data:
         (data / PATCH_FILE).write_bytes(patch_data)
     tire_d = tire_to_dict(tire)
@@ -366,20 +369,29 @@ def _rolling_resource(tire: TireParams, grid: Any) -> tuple[bytes, dict[str, Any
 
 
 def _patch_resource(tire: TireParams, grid: Any, s0: float, fidelity: str,
-                    axes: dict | None = None) -> tuple[bytes, dict[str, Any]]:
+                    axes: dict | None = None, *, wet: bool = False
+                    ) -> tuple[bytes, dict[str, Any]]:
     """The real-time fidelity's patch table file (empty bytes for a full-fidelity build) and
     its entry in build.json: built from the steady march of this tire on the grid's friction
-    with the blend length ``s0`` (:func:`tire_brush.realtime_build.cached_patch_table`)."""
+    with the blend length ``s0`` (:func:`tire_brush.realtime_build.cached_patch_table`), with
+    a layer at each water depth of the grid's wet branch when the FMU carries one (``wet``;
+    drainage scale 1, as the FMU's)."""
     if fidelity != "realtime":
         return b"", {"file": None}
+    from lookup.grid.wet import load_wet
     from tire_brush.friction import GridFriction, as_table
     from tire_brush.realtime_build import cached_patch_table
 
     t0 = time.perf_counter()
-    table, path = cached_patch_table(tire, as_table(GridFriction(grid, s0=s0)), axes=axes)
+    branch = load_wet(Path(str(grid.source))) if wet else None
+    axes = dict(axes or {})
+    depths = axes.pop("water_depth", None)
+    table, path = cached_patch_table(tire, as_table(GridFriction(grid, s0=s0)), axes=axes,
+                                     wet=branch, depths=depths if wet else None)
     data = path.read_bytes()
     return data, {"file": PATCH_FILE, "sha256": "sha256:" + hashlib.sha256(data).hexdigest(),
                   "key": table.key, "shape": list(table.values.shape),
+                  "water_depth_m": table.depth.tolist(),
                   "seconds": round(time.perf_counter() - t0, 1),
                   "model": "tire_brush.realtime (docs/realtime.md)"}
 

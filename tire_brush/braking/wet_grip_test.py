@@ -151,8 +151,9 @@ def _grids(name: str) -> tuple[Any, Any]:
 
 
 def friction_source(spec: WetGripSpec, tire: str, water_depth: float, grids=None, *,
-                    hydroplaning: bool = True):
-    """:class:`~tire_brush.wet_friction.WetTireFriction` of ``tire`` on the test road."""
+                    hydroplaning: bool = True, partial_lift: bool = False):
+    """:class:`~tire_brush.wet_friction.WetTireFriction` of ``tire`` on the test road
+    (``partial_lift``: the study option of :class:`~tire_brush.wet_friction.WetTireFriction`)."""
     from tire_brush.params import load_tire
     from tire_brush.wet_friction import WetRoad, WetTireFriction
 
@@ -160,7 +161,8 @@ def friction_source(spec: WetGripSpec, tire: str, water_depth: float, grids=None
     dry, wet = grids or _grids(spec.grid)
     road = WetRoad(water_depth, spec.texture_depth, spec.tire_entry(tire).tread_depth,
                    spec.drainage_radius)
-    return WetTireFriction(params, dry, wet, road, hydroplaning=hydroplaning)
+    return WetTireFriction(params, dry, wet, road, hydroplaning=hydroplaning,
+                           partial_lift=partial_lift)
 
 
 @dataclass
@@ -211,10 +213,11 @@ def bfc_distance(sim: SimResult, v1: float) -> float:
 
 
 def tire_result(spec: WetGripSpec, tire: str, T_K: float, water_depth: float, grids,
-                with_dry: bool = True, point_evaluation: bool = False
-                ) -> tuple[dict[str, Any], dict[str, Any]]:
+                with_dry: bool = True, partial_lift: bool = False,
+                point_evaluation: bool = False) -> tuple[dict[str, Any], dict[str, Any]]:
     """BFC (vehicle method) and peak Fx/Fz (trailer method) of one tire, wet and dry
-    (``point_evaluation``: :func:`braking_run`)."""
+    (``partial_lift``: :func:`friction_source`'s study option; ``point_evaluation``:
+    :func:`braking_run`)."""
     from tire_brush.wet_friction import peak_fx_over_fz
 
     entry = spec.tire_entry(tire)
@@ -223,7 +226,7 @@ def tire_result(spec: WetGripSpec, tire: str, T_K: float, water_depth: float, gr
     for name, depth in (("wet", water_depth), ("dry", 0.0)):
         if name == "dry" and not with_dry:
             break
-        src = friction_source(spec, tire, depth, grids)
+        src = friction_source(spec, tire, depth, grids, partial_lift=partial_lift)
         run = braking_run(spec, src, T_K, label=f"{tire} {name}",
                           point_evaluation=point_evaluation)
         Fz_trailer = spec.trailer_load_share * entry.load_capacity
@@ -241,8 +244,10 @@ def tire_result(spec: WetGripSpec, tire: str, T_K: float, water_depth: float, gr
 
 
 def run_wet_grip(spec: WetGripSpec, tire: str = "passenger", T_C: float | None = None,
-                 water_depth: float | None = None) -> tuple[dict[str, Any], dict[str, Any]]:
-    """The test for ``tire`` against the spec's reference tire (module docstring).
+                 water_depth: float | None = None, *, partial_lift: bool = False
+                 ) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The test for ``tire`` against the spec's reference tire (module docstring);
+    ``partial_lift``: :func:`friction_source`'s study option, for both tires.
 
     Returns the results document (JSON-able) and the runs (for plots)."""
     from tire_brush.params import load_tire
@@ -273,11 +278,12 @@ def run_wet_grip(spec: WetGripSpec, tire: str = "passenger", T_C: float | None =
         raise InputError(f"outside the grid's temperature axis ({T_ax[0] - 273.15:g} ... "
                          f"{T_ax[-1] - 273.15:g} C)", field="temperature", value=T_K - 273.15)
     T_C_ = T_K - 273.15
-    cand, cand_runs = tire_result(spec, tire, T_K, depth, grids)
+    cand, cand_runs = tire_result(spec, tire, T_K, depth, grids, partial_lift=partial_lift)
     if Path(tire).stem == Path(spec.reference_tire).stem:
         ref, ref_runs = cand, cand_runs
     else:
-        ref, ref_runs = tire_result(spec, spec.reference_tire, T_K, depth, grids)
+        ref, ref_runs = tire_result(spec, spec.reference_tire, T_K, depth, grids,
+                                      partial_lift=partial_lift)
     G = wet_grip_index(cand["bfc_wet"], ref["bfc_wet"], T_C_, T_C_)
     notes = ([] if wet_axis[0] <= depth <= wet_axis[-1] and depth in wet_axis else
              [f"water depth {depth:g} m is not a node of the grid's wet branch "

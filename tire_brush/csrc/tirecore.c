@@ -1581,7 +1581,7 @@ int tf_tire_step(tf_tire *tire, double dt, const double *in, double *out) {
         for (int k = 0; k < n_sub; k++) {
             if (tire->patch)
                 tf_rt_advance(p, tire->patch, &rs, h, vx - V_r, vy, V_r, Fz_road, a, Ts, mus,
-                              gam, q_roll, fin);
+                              gam, q_roll, wet ? d_water : 0.0, fin);
             else
                 advance(tire, h, vx - V_r, vy, V_r, Fz_road, a, b, Ts, mus, wc, q_roll,
                         d_water, lt_drain, fin);

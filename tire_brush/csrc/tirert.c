@@ -19,11 +19,23 @@ struct tf_patch {
     double *q;                     /* full-sliding slip share at the load nodes */
     double *f0;                    /* force at zero slip over Fz, (gamma, T, Fz, v, 2) */
     double vmin;                   /* 10^(first speed node) [m/s] */
+    int nd;                        /* water-depth layers (1: the dry road only) */
+    double *depth;                 /* their water depths [m], from 0 (the dry road) */
+    size_t lval, lf0;              /* doubles per layer in val and f0 */
 };
 
 tf_patch *tf_patch_new(const int *n, const double *axes, const double *q, const double *f0,
                        const double *values) {
-    if (!n || !axes || !q || !f0 || !values) return NULL;
+    const double dry = 0.0;
+    return tf_patch_new_wet(n, 1, &dry, axes, q, f0, values);
+}
+
+tf_patch *tf_patch_new_wet(const int *n, int nd, const double *depth, const double *axes,
+                           const double *q, const double *f0, const double *values) {
+    if (!n || !axes || !q || !f0 || !values || !depth || nd < 1 || nd > 1000) return NULL;
+    if (depth[0] != 0.0) return NULL;
+    for (int i = 1; i < nd; i++)
+        if (!isfinite(depth[i]) || !(depth[i] > depth[i - 1])) return NULL;
     size_t nax = 0, nn = 1;
     for (int k = 0; k < TF_PATCH_NAX; k++) {
         if (n[k] < 2 || n[k] > 100000) return NULL;
@@ -40,31 +52,37 @@ tf_patch *tf_patch_new(const int *n, const double *axes, const double *q, const 
     if (g[0] != 0.0 || rho[0] != 0.0 || rho[n[5] - 1] != 1.0 ||
         !(th[0] >= -1.5707963267948977) || !(th[n[4] - 1] <= 1.5707963267948977))
         return NULL;
-    for (size_t i = 0; i < nn * TF_PATCH_NV; i++)
+    for (size_t i = 0; i < (size_t)nd * nn * TF_PATCH_NV; i++)
         if (!isfinite(values[i])) return NULL;
     for (int i = 0; i < n[2]; i++)
         if (!(q[i] > 0.0 && q[i] < 1.0)) return NULL;
     size_t n0 = (size_t)n[0] * n[1] * n[2] * n[3] * 2;
-    for (size_t i = 0; i < n0; i++)
+    for (size_t i = 0; i < (size_t)nd * n0; i++)
         if (!isfinite(f0[i])) return NULL;
     tf_patch *pt = calloc(1, sizeof *pt);
     if (!pt) return NULL;
     pt->ax[0] = malloc(sizeof(double) * nax);
-    pt->val = malloc(sizeof(double) * nn * TF_PATCH_NV);
+    pt->val = malloc(sizeof(double) * nn * TF_PATCH_NV * (size_t)nd);
     pt->q = malloc(sizeof(double) * (size_t)n[2]);
-    pt->f0 = malloc(sizeof(double) * n0);
-    if (!pt->ax[0] || !pt->val || !pt->q || !pt->f0) {
+    pt->f0 = malloc(sizeof(double) * n0 * (size_t)nd);
+    pt->depth = malloc(sizeof(double) * (size_t)nd);
+    if (!pt->ax[0] || !pt->val || !pt->q || !pt->f0 || !pt->depth) {
         free(pt->ax[0]);
         free(pt->val);
         free(pt->q);
         free(pt->f0);
+        free(pt->depth);
         free(pt);
         return NULL;
     }
     memcpy(pt->ax[0], axes, sizeof(double) * nax);
     memcpy(pt->q, q, sizeof(double) * (size_t)n[2]);
-    memcpy(pt->f0, f0, sizeof(double) * n0);
-    memcpy(pt->val, values, sizeof(double) * nn * TF_PATCH_NV);
+    memcpy(pt->f0, f0, sizeof(double) * n0 * (size_t)nd);
+    memcpy(pt->val, values, sizeof(double) * nn * TF_PATCH_NV * (size_t)nd);
+    memcpy(pt->depth, depth, sizeof(double) * (size_t)nd);
+    pt->nd = nd;
+    pt->lval = nn * TF_PATCH_NV;
+    pt->lf0 = n0;
     for (int k = 0; k < TF_PATCH_NAX; k++) {
         pt->n[k] = n[k];
         if (k > 0) pt->ax[k] = pt->ax[k - 1] + n[k - 1];
@@ -84,8 +102,11 @@ void tf_patch_free(tf_patch *pt) {
     free(pt->val);
     free(pt->q);
     free(pt->f0);
+    free(pt->depth);
     free(pt);
 }
+
+int tf_patch_layers(const tf_patch *pt) { return pt ? pt->nd : 0; }
 
 /* Cell i and weight f of x on an ascending axis, clamped to its ends; inv = 1 / (a[i+1] -
  * a[i]) inside, 0 where clamped (the derivative there is 0). */
@@ -101,6 +122,11 @@ static void locate_ax(int n, const double *a, double x, int *i, double *f, doubl
 
 int tf_patch_eval(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz, double T,
                   double gamma, double *out) {
+    return tf_patch_eval_wet(pt, Vx, Vy, Vr, Fz, T, gamma, 0.0, out);
+}
+
+int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz,
+                      double T, double gamma, double d_water, double *out) {
     double sx = Vx < 0.0 ? -1.0 : 1.0;
     double sg = gamma < 0.0 ? -1.0 : 1.0;
     double sv = Vr < 0.0 ? -1.0 : 1.0;
@@ -138,32 +164,47 @@ int tf_patch_eval(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz
     size_t ob = (((size_t)li[0] * pt->n[1] + li[1]) * pt->n[2] + li[2]) * pt->n[3] + li[3];
     double g0x = 0.0, g0y = 0.0;
     double ft = lf[4], fr = lf[5];
-    /* the 16 outer corners (gamma, T, Fz, v), each with its 2 x 2 (theta, rho) cell */
-    for (int c = 0; c < 16; c++) {
-        double w = 1.0;
-        size_t off = base;
-        for (int k = 0; k < 4; k++) {
-            int bit = (c >> (3 - k)) & 1;
-            double f = lf[k];
-            w *= bit ? f : 1.0 - f;
-            off += (size_t)bit * pt->stride[k];
-        }
-        if (w == 0.0) continue;
-        size_t o0 = 2 * (ob + (off - base) / pt->stride[3]);
-        g0x += w * pt->f0[o0];
-        g0y += w * pt->f0[o0 + 1];
-        const double *v00 = pt->val + off, *v01 = v00 + pt->stride[5];
-        const double *v10 = v00 + pt->stride[4], *v11 = v10 + pt->stride[5];
-        for (int q = 0; q < TF_PATCH_NV; q++) {
-            double a00 = v00[q], a01 = v01[q], a10 = v10[q], a11 = v11[q];
-            double lo = a00 + fr * (a01 - a00);
-            double hi = a10 + fr * (a11 - a10);
-            acc[q] += w * (lo + ft * (hi - lo));
-            if (q < 4) {
-                dr[q] += w * ((a01 - a00) + ft * ((a11 - a10) - (a01 - a00)));
-                dth[q] += w * (hi - lo);
+    /* the water depth: the two layers about it, clamped to the layers' depths as the full
+     * model clamps the wet branch (a dry-only table: its one layer) */
+    int il = 0;
+    double fl = 0.0;
+    if (pt->nd > 1) {
+        double dinv;
+        locate_ax(pt->nd, pt->depth, d_water, &il, &fl, &dinv);
+    }
+    for (int l = 0; l < 2; l++) {
+        double wl = l ? fl : 1.0 - fl;
+        if (wl == 0.0) continue;
+        const double *val = pt->val + (size_t)(il + l) * pt->lval;
+        const double *f0 = pt->f0 + (size_t)(il + l) * pt->lf0;
+        /* the 16 outer corners (gamma, T, Fz, v), each with its 2 x 2 (theta, rho) cell */
+        for (int c = 0; c < 16; c++) {
+            double w = wl;
+            size_t off = base;
+            for (int k = 0; k < 4; k++) {
+                int bit = (c >> (3 - k)) & 1;
+                double f = lf[k];
+                w *= bit ? f : 1.0 - f;
+                off += (size_t)bit * pt->stride[k];
+            }
+            if (w == 0.0) continue;
+            size_t o0 = 2 * (ob + (off - base) / pt->stride[3]);
+            g0x += w * f0[o0];
+            g0y += w * f0[o0 + 1];
+            const double *v00 = val + off, *v01 = v00 + pt->stride[5];
+            const double *v10 = v00 + pt->stride[4], *v11 = v10 + pt->stride[5];
+            for (int q = 0; q < TF_PATCH_NV; q++) {
+                double a00 = v00[q], a01 = v01[q], a10 = v10[q], a11 = v11[q];
+                double lo = a00 + fr * (a01 - a00);
+                double hi = a10 + fr * (a11 - a10);
+                acc[q] += w * (lo + ft * (hi - lo));
+                if (q < 4) {
+                    dr[q] += w * ((a01 - a00) + ft * ((a11 - a10) - (a01 - a00)));
+                    dth[q] += w * (hi - lo);
+                }
             }
         }
+        if (pt->nd == 1) break;
     }
     for (int q = 0; q < 4; q++) {
         dr[q] *= linv[5];
@@ -218,7 +259,7 @@ int tf_patch_eval(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz
  * Euler. fin as the full model's outer step. */
 void tf_rt_advance(const tf_params *p, const tf_patch *pt, tf_rt_state *s, double h,
                    double Vsx, double Vsy, double V_r, double Fz, double a, double Ts,
-                   double mus, double gam, double q_roll, double *fin) {
+                   double mus, double gam, double q_roll, double d_water, double *fin) {
     for (int k = 0; k < 8; k++) fin[k] = 0.0;
     int rigid = p->rigid != 0;
     if (!(Fz > 0.0 && a > 0.0) || !(mus > 1e-6)) {
@@ -244,7 +285,8 @@ void tf_rt_advance(const tf_params *p, const tf_patch *pt, tf_rt_state *s, doubl
      * and V / mu_scale (sliding speeds and friction power scale once more) */
     double ims = 1.0 / mus;
     double o[TF_PATCH_NOUT];
-    s->flags |= tf_patch_eval(pt, s->Vp[0] * ims, s->Vp[1] * ims, V_r, Fz, T0, gam, o);
+    s->flags |= tf_patch_eval_wet(pt, s->Vp[0] * ims, s->Vp[1] * ims, V_r, Fz, T0, gam,
+                                  d_water, o);
     double F0x = mus * o[0], F0y = mus * o[1], Mz0 = mus * o[2], M0 = mus * o[3];
     double J[8];
     memcpy(J, o + 4, sizeof J);

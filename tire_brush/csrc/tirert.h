@@ -38,13 +38,24 @@ extern "C" {
  * Copies the data; NULL on bad input. */
 TF_API tf_patch *tf_patch_new(const int *n, const double *axes, const double *q,
                               const double *f0, const double *values);
+/* A patch table with water-depth layers: nd >= 1 layers at the water depths depth[nd] [m]
+ * (strictly ascending from 0, the dry road), f0 and values each nd of tf_patch_new's one after
+ * another (tabulated on the wet branch of the grid at each depth, docs/realtime.md). */
+TF_API tf_patch *tf_patch_new_wet(const int *n, int nd, const double *depth, const double *axes,
+                                  const double *q, const double *f0, const double *values);
 TF_API void tf_patch_free(tf_patch *pt);
+/* Water-depth layers of a table (1: the dry road only). */
+TF_API int tf_patch_layers(const tf_patch *pt);
 /* The patch response at the patch's slip velocity (Vx, Vy) and rolling speed Vr [m/s], load
  * Fz > 0 [N], tread temperature T [K] and inclination gamma [rad] (out: TF_PATCH_NOUT).
  * Returns TF_FLAG_T_RANGE when T lies outside the table's temperature axis (read at its
  * edge), else 0. */
 TF_API int tf_patch_eval(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz,
                          double T, double gamma, double *out);
+/* The same on water of depth d_water [m]: linear between the two layers about it, clamped to
+ * the layers' depths (tf_patch_eval reads depth 0, the dry road). */
+TF_API int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz,
+                             double T, double gamma, double d_water, double *out);
 
 /* Internal (tirecore.c): the state the real-time sub-step advances, and the sub-step. */
 typedef struct {
@@ -53,7 +64,7 @@ typedef struct {
 } tf_rt_state;
 void tf_rt_advance(const tf_params *p, const tf_patch *pt, tf_rt_state *s, double h,
                    double Vsx, double Vsy, double V_r, double Fz, double a, double Ts,
-                   double mus, double gam, double q_roll, double *fin);
+                   double mus, double gam, double q_roll, double d_water, double *fin);
 
 #ifdef __cplusplus
 }
