@@ -429,3 +429,25 @@ def test_temperature_signs_of_the_two_terms(r117):
     assert np.all(np.diff(r.mu_visc) < 0), r.mu_visc
     assert np.all(np.diff(r.mu_cont) > 0), r.mu_cont
     assert np.all(np.diff(r.mu) > 0), r.mu
+
+
+def test_shared_sealed_spectrum_one_table_per_road(r117):
+    # equal content (a copied spectrum, copied q nodes) gives the same table, other depths
+    # another; the rows a shared table holds equal a fresh table's bit for bit whichever
+    # rows were filled before (what lets the compound screen share it across compounds)
+    import copy
+
+    from lookup.wet.sealing import shared_sealed_spectrum
+
+    dry, _, _ = r117
+    s = SealingSettings(n=128)
+    a = shared_sealed_spectrum(dry.surface.psd, dry.q, [0.0, 1e-3], s)
+    b = shared_sealed_spectrum(copy.deepcopy(dry.surface.psd), dry.q.copy(), [0.0, 1e-3],
+                               SealingSettings(n=128))
+    assert a is b
+    assert shared_sealed_spectrum(dry.surface.psd, dry.q, [0.0, 2e-3], s) is not a
+    q_c = np.array([1e3, 4.5e3])
+    shared = a.ratio(q_c, 1)
+    fresh = SealedSpectrum(dry.surface.psd, dry.q, [0.0, 1e-3], s)
+    fresh.ratio(np.array([2.2e4]), 1)          # another row first
+    np.testing.assert_array_equal(fresh.ratio(q_c, 1), shared)

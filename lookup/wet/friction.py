@@ -56,7 +56,7 @@ from tirefric.errors import InputError
 
 from ..contact import Phi, contact_fraction
 from ..friction import PerssonFriction
-from .sealing import SealedSpectrum, SealingSettings
+from .sealing import SealingSettings, shared_sealed_spectrum
 from .squeeze import S_NODES, asperity_dry_share, dry_share, mean_separation
 from .water import Lubricant, check_water_depth
 
@@ -103,7 +103,9 @@ class WetPerssonFriction(PerssonFriction):
 
             m = read_height_map(self.surface.height_map)
             hm = (m.heights, m.dx, m.dy)
-        self.sealed = SealedSpectrum(self.surface.psd, self.q, self.depths, self.sealing, hm)
+        # one table per road and process: its rows do not depend on the compound
+        self.sealed = shared_sealed_spectrum(self.surface.psd, self.q, self.depths,
+                                             self.sealing, hm)
         self.depth_index = 0
         self.last_w = np.zeros(0)
         self.last_squeeze: tuple | None = None

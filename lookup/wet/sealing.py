@@ -414,3 +414,38 @@ class SealedSpectrum:
                 "method": "lookup.wet.sealing (Persson, Tartaglino, Albohr & Tosatti, Nat. "
                           "Mater. 3 (2004) 882; Phys. Rev. B 71 (2005) 035428; construction "
                           "documented in the module)"}
+
+
+#: Sealed spectra kept per process by :func:`shared_sealed_spectrum` (the least recently
+#: used is dropped beyond this many: a few MB each, the height maps and their transforms).
+SHARED_MAX = 4
+_SHARED: dict[str, SealedSpectrum] = {}
+
+
+def shared_sealed_spectrum(psd: PowerSpectrum, q_nodes: np.ndarray, depths,
+                           settings: SealingSettings | None = None,
+                           height_map: tuple[np.ndarray, float, float] | None = None
+                           ) -> SealedSpectrum:
+    """The :class:`SealedSpectrum` of these arguments, one per process.
+
+    The table depends on the road (its spectrum or height map), the engine's q nodes, the
+    depths and the sealing settings, not on the compound, and a row's values do not depend
+    on which other rows exist (:class:`SealedSpectrum`): a process that builds the wet
+    branch of several compounds on one road (the compound screen, tire_brush.screening)
+    computes each row once, with the same numbers bit for bit as a fresh table. The key is
+    a SHA-256 of the pickled arguments (equal content, equal key)."""
+    import hashlib
+    import pickle
+
+    q = np.asarray(q_nodes, float)
+    d = np.asarray(depths, float)
+    s = settings or SealingSettings()
+    key = hashlib.sha256(pickle.dumps((type(psd).__qualname__, psd, q, d, s, height_map),
+                                      protocol=4)).hexdigest()
+    table = _SHARED.pop(key, None)
+    if table is None:
+        table = SealedSpectrum(psd, q, d, s, height_map)
+    _SHARED[key] = table                   # most recently used last
+    while len(_SHARED) > SHARED_MAX:
+        _SHARED.pop(next(iter(_SHARED)))
+    return table

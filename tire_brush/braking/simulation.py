@@ -173,21 +173,24 @@ def simulate_braking(
         mu = float(fx_over_fz(kappa, v, Fz, T))
         return mu if road is None else mu * road(x)
 
-    def f_and_jac(y: np.ndarray, u: float, need_jac: bool):
-        x, v, w, Tb, T = y
+    heat = None if th is None else (th.heat_fraction, th.cooling, th.heat_capacity)
+
+    # The state is five Python floats (x, v, omega, T_b, T_tread): the step is the one of the
+    # five-vector formulation, component by component, the same floating-point operations
+    # in the same order without array set-up per step (the screen's stops, docs/screening.md).
+    def f_and_jac(x: float, v: float, w: float, Tb: float, T: float, u: float,
+                  need_jac: bool):
         kappa = (w * R - v) / v
         mu = mu_of(kappa, v, T, x)
         Fx = Fz * mu
-        f = np.empty(5)
-        f[0] = v
-        f[1] = Fx / m
-        f[2] = (-R * Fx - Tb) / J
-        locked = w <= 0.0 and f[2] <= 0.0      # the brake holds the wheel: omega stays 0
+        f1 = Fx / m
+        f2 = (-R * Fx - Tb) / J
+        locked = w <= 0.0 and f2 <= 0.0      # the brake holds the wheel: omega stays 0
         if locked:
-            f[2] = 0.0
-        f[3] = u
-        f[4] = 0.0 if th is None else (
-            th.heat_fraction * Fx * (w * R - v) - th.cooling * (T - T_ambient)) / th.heat_capacity
+            f2 = 0.0
+        f4 = 0.0 if heat is None else (
+            heat[0] * Fx * (w * R - v) - heat[1] * (T - T_ambient)) / heat[2]
+        f = (v, f1, f2, u, f4)
         if not need_jac:
             return f, mu, None
         mu_k = (mu_of(kappa + d_kappa, v, T, x) - mu) / d_kappa
@@ -197,17 +200,14 @@ def simulate_braking(
             return f, mu, (a * dk_dv, a * dk_dw, 0.0, 0.0)
         return f, mu, (a * dk_dv, a * dk_dw, b * dk_dv, b * dk_dw)
 
-    def solve_w(rhs: np.ndarray, jac, cool: float, gh: float) -> np.ndarray:
+    def solve_w(r0: float, r1: float, r2: float, r3: float, r4: float, jac, cool: float,
+                gh: float) -> tuple[float, float, float, float, float]:
         jvv, jvw, jwv, jww = jac
         m11, m12, m21, m22 = 1.0 - gh * jvv, -gh * jvw, -gh * jwv, 1.0 - gh * jww
         det = m11 * m22 - m12 * m21
-        k = np.empty(5)
-        k[1] = (m22 * rhs[1] - m12 * rhs[2]) / det
-        k[2] = (m11 * rhs[2] - m21 * rhs[1]) / det
-        k[0] = rhs[0] + gh * k[1]
-        k[3] = rhs[3]
-        k[4] = rhs[4] / (1.0 + gh * cool)
-        return k
+        k1 = (m22 * r1 - m12 * r2) / det
+        k2 = (m11 * r2 - m21 * r1) / det
+        return (r0 + gh * k1, k1, k2, r3, r4 / (1.0 + gh * cool))
 
     def unstable_rate(jac) -> float:
         """Largest real part of the (v, omega) block's eigenvalues [1/s]."""
@@ -216,13 +216,8 @@ def simulate_braking(
         disc = half_tr * half_tr - (jvv * jww - jvw * jwv)
         return half_tr + math.sqrt(disc) if disc > 0.0 else half_tr
 
-    def clamp(z: np.ndarray) -> np.ndarray:
-        z[2] = max(z[2], 0.0)
-        z[3] = min(max(z[3], 0.0), Tmax)
-        return z
-
     cool = 0.0 if th is None else th.cooling / th.heat_capacity
-    y = np.array([0.0, v0, v0 / R, brake_torque_initial, T_ambient])
+    y = (0.0, float(v0), float(v0 / R), float(brake_torque_initial), float(T_ambient))
     controller.reset()
     t = 0.0
     rec: list[tuple] = []
@@ -240,9 +235,10 @@ def simulate_braking(
         t_end = (n_period + 1) * Tc        # the next sample, exactly (no drift of t)
         n_period += 1
         while stop is None and t_end - t > 1e-12 * Tc:
-            f1, mu, jac = f_and_jac(y, u, True)
+            y0, y1, y2, y3, y4 = y
+            f, mu, jac = f_and_jac(y0, y1, y2, y3, y4, u, True)
             if n_steps % settings.record_every == 0:
-                rec.append((t, *y, (y[2] * R - y[1]) / y[1], mu, phase))
+                rec.append((t, *y, (y2 * R - y1) / y1, mu, phase))
             lam = unstable_rate(jac)
             h_wanted = h_try
             while True:
@@ -250,12 +246,19 @@ def simulate_braking(
                 if lam > 0.0:                  # keep off ROS2's pole at h lambda = 1/gamma
                     hs = min(hs, max(0.5 / (GAMMA_ROS2 * lam), h_min))
                 gh = GAMMA_ROS2 * hs
-                k1 = solve_w(f1, jac, cool, gh)
-                f2, _, _ = f_and_jac(y + hs * k1, u, False)
-                k2 = solve_w(f2 - 2.0 * k1, jac, cool, gh)
-                y_new = clamp(y + 1.5 * hs * k1 + 0.5 * hs * k2)
-                y_low = clamp(y + hs * k1)     # embedded first-order solution
-                err = max(R * abs(y_new[2] - y_low[2]), abs(y_new[1] - y_low[1]))
+                k1 = solve_w(*f, jac, cool, gh)
+                f2, _, _ = f_and_jac(y0 + hs * k1[0], y1 + hs * k1[1], y2 + hs * k1[2],
+                                     y3 + hs * k1[3], y4 + hs * k1[4], u, False)
+                k2 = solve_w(*(a - 2.0 * b for a, b in zip(f2, k1, strict=True)), jac,
+                             cool, gh)
+                c1, c2 = 1.5 * hs, 0.5 * hs
+                n0, n1, n2, n3, n4 = (a + c1 * b + c2 * c for a, b, c in
+                                      zip(y, k1, k2, strict=True))
+                n2 = max(n2, 0.0)              # clamp
+                n3 = min(max(n3, 0.0), Tmax)
+                low1, low2 = y1 + hs * k1[1], max(y2 + hs * k1[2], 0.0)
+                # local error: embedded first-order solution y + h k1
+                err = max(R * abs(n2 - low2), abs(n1 - low1))
                 err /= settings.speed_tol
                 if err <= 1.0 or hs <= h_min:
                     break
@@ -267,9 +270,10 @@ def simulate_braking(
             if hs == t_end - t and h_try < h_wanted and err <= 0.25:
                 h_try = h_wanted
             n_steps += 1
-            if y_new[1] <= v_stop:
-                s = (y[1] - v_stop) / (y[1] - y_new[1])
-                stop = y + s * (y_new - y)
+            y_new = (n0, n1, n2, n3, n4)
+            if n1 <= v_stop:
+                s = (y1 - v_stop) / (y1 - n1)
+                stop = [a + s * (b - a) for a, b in zip(y, y_new, strict=True)]
                 stop[1] = v_stop
                 t_stop = t + s * hs
                 break

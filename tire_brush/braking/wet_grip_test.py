@@ -176,8 +176,13 @@ class BrakingRun:
     car: QuarterCar
 
 
-def braking_run(spec: WetGripSpec, source, T_K: float, label: str = "") -> BrakingRun:
-    """ABS stop from ``v_start`` to ``v2`` on the force map of ``source``; BFC over v1 -> v2."""
+def braking_run(spec: WetGripSpec, source, T_K: float, label: str = "",
+                point_evaluation: bool = False) -> BrakingRun:
+    """ABS stop from ``v_start`` to ``v2`` on the force map of ``source``; BFC over v1 -> v2.
+
+    ``point_evaluation``: the quarter car reads the map through
+    :meth:`~tire_brush.braking.force_map.ForceMap.point_evaluator` (the same spline, equal to
+    rounding, cheaper per step; the compound screen uses it)."""
     from tire_brush.wet_grip import braking_force_coefficient
 
     car = dataclasses.replace(spec.car, radius=source.params.R_e, thermal=None)
@@ -188,8 +193,8 @@ def braking_run(spec: WetGripSpec, source, T_K: float, label: str = "") -> Braki
     schedule = abs_slip_schedule(optimal_slip(fmap, v_line, [car.Fz], [T_K], label=label))
     ctrl = RuleBasedABS(ABSParams(), car.radius, car.brake_torque_rate_max,
                         slip_schedule=schedule)
-    sim = simulate_braking(car, fmap, ctrl, spec.v_start, spec.v2, T_K,
-                           settings=spec.simulation)
+    sim = simulate_braking(car, fmap.point_evaluator() if point_evaluation else fmap, ctrl,
+                           spec.v_start, spec.v2, T_K, settings=spec.simulation)
     d = bfc_distance(sim, spec.v1)
     return BrakingRun(braking_force_coefficient(spec.v1, spec.v2, d), d, sim, fmap, car)
 
@@ -208,10 +213,11 @@ def bfc_distance(sim: SimResult, v1: float) -> float:
 
 
 def tire_result(spec: WetGripSpec, tire: str, T_K: float, water_depth: float, grids,
-                with_dry: bool = True, partial_lift: bool = False
-                ) -> tuple[dict[str, Any], dict[str, Any]]:
+                with_dry: bool = True, partial_lift: bool = False,
+                point_evaluation: bool = False) -> tuple[dict[str, Any], dict[str, Any]]:
     """BFC (vehicle method) and peak Fx/Fz (trailer method) of one tire, wet and dry
-    (``partial_lift``: :func:`friction_source`'s study option)."""
+    (``partial_lift``: :func:`friction_source`'s study option; ``point_evaluation``:
+    :func:`braking_run`)."""
     from tire_brush.wet_friction import peak_fx_over_fz
 
     entry = spec.tire_entry(tire)
@@ -221,7 +227,8 @@ def tire_result(spec: WetGripSpec, tire: str, T_K: float, water_depth: float, gr
         if name == "dry" and not with_dry:
             break
         src = friction_source(spec, tire, depth, grids, partial_lift=partial_lift)
-        run = braking_run(spec, src, T_K, label=f"{tire} {name}")
+        run = braking_run(spec, src, T_K, label=f"{tire} {name}",
+                          point_evaluation=point_evaluation)
         Fz_trailer = spec.trailer_load_share * entry.load_capacity
         peak, kpk = peak_fx_over_fz(src, spec.trailer_speed, Fz_trailer, T_K)
         out[f"bfc_{name}"] = run.bfc

@@ -20,7 +20,10 @@ For a compound (:mod:`.compounds`) :func:`evaluate_compound`:
    later against the reference tire (:func:`evaluate_reference`);
 5. brakes the quarter car of the braking study from ``v0`` to ``v_stop`` on the force maps of
    the dry and the wet road with the rule-based ABS and a locked wheel (the steps of
-   :func:`tire_brush.braking.study.run_case` without the OCP);
+   :func:`tire_brush.braking.study.run_case` without the OCP), at the screening's braking
+   resolution (:func:`screen_study`: fewer force-map temperatures, a longer largest step;
+   the maps read one point at a time through
+   :meth:`~tire_brush.braking.force_map.ForceMap.point_evaluator`);
 6. the peak braking |Fx/Fz| of the steady brush on the dry road at the peak temperatures
    (:func:`tire_brush.wet_friction.peak_fx_over_fz`).
 
@@ -75,6 +78,14 @@ class Settings:
         Vehicle speed of the peak friction [m/s].
     keep : str or None
         Folder to keep each compound's grids and file in (None: a temporary folder, removed).
+    version : str
+        The package version (enters the cache key).
+    stop_T_step : float
+        Spacing [K] of the dry stop's force-map temperature nodes, from the case temperature
+        up to the tread's heating bound (:func:`screen_study`); 0: the study's own nodes.
+    stop_dt : float
+        Largest step [s] of the quarter car in the stops and the wet grip test; 0: the
+        study's and the test's own.
     """
 
     tire: str
@@ -89,6 +100,8 @@ class Settings:
     peak_speed: float
     keep: str | None = None
     version: str = field(default="")
+    stop_T_step: float = 0.0
+    stop_dt: float = 0.0
 
     def describe(self) -> dict[str, Any]:
         """JSON-able form (the results' provenance and the cache key)."""
@@ -96,19 +109,57 @@ class Settings:
                 "wet_grid": self.wet_spec.to_dict(), "wet_grip_spec": self.wet_grip_spec,
                 "study": self.study, "v0_m_s": self.v0, "v_stop_m_s": self.v_stop,
                 "T_K": self.T_K, "peak_T_K": list(self.peak_T_K),
-                "peak_speed_m_s": self.peak_speed, "version": self.version}
+                "peak_speed_m_s": self.peak_speed, "version": self.version,
+                "stop_T_step_K": self.stop_T_step, "stop_dt_s": self.stop_dt}
 
 
 def _study(settings: Settings, grid: str, thermal: bool):
-    """The braking study spec with the brush on ``grid`` at load 1 (the stops' load)."""
+    """The braking study spec with the brush on ``grid`` at load 1 (the stops' load), at the
+    screening's braking resolution (:func:`screen_study`)."""
     from tire_brush.braking.study import load_study
 
     st = load_study(settings.study)
     car = st.car if thermal else dataclasses.replace(st.car, thermal=None)
-    return dataclasses.replace(
+    return screen_study(dataclasses.replace(
         st, v0=settings.v0, v_stop=settings.v_stop, car=car,
         friction={"source": "brush", "tire": settings.tire, "grid": grid},
-        maps=dataclasses.replace(st.maps, loads_rel=(1.0,)))
+        maps=dataclasses.replace(st.maps, loads_rel=(1.0,))), settings)
+
+
+def screen_study(study, settings: Settings):
+    """The study at the screening's braking resolution.
+
+    ``settings.stop_T_step`` > 0: the force map's temperature nodes are the case temperature
+    and every ``stop_T_step`` above it until the tread's heating bound is covered
+    (:func:`tire_brush.braking.study.case_temperatures` with offsets ``(0, stop_T_step)``).
+    The study's node 4 K below the case temperature is for its OCP, whose slip maps compare
+    a cold and a warm tread; in a stop the tread starts at the case temperature and only
+    heats (the quarter car's tread-temperature state: friction heating in, cooling towards
+    the ambient, :mod:`tire_brush.braking.quarter_car`), so no stop reads below it.
+    ``settings.stop_dt`` > 0: the quarter car's largest step (the step control keeps the
+    local error of the speeds below the study's tolerance and shortens steps where the wheel
+    needs it, :mod:`tire_brush.braking.simulation`). docs/screening.md gives what both
+    cost in the stopping distances, measured.
+    """
+    maps, sim = study.maps, study.simulation
+    if settings.stop_T_step > 0.0:
+        maps = dataclasses.replace(maps, temperatures_rel=(0.0, settings.stop_T_step),
+                                   temperature_step=settings.stop_T_step)
+    if settings.stop_dt > 0.0:
+        sim = dataclasses.replace(sim, dt=settings.stop_dt)
+    return dataclasses.replace(study, maps=maps, simulation=sim)
+
+
+def screen_wet_grip_spec(settings: Settings, grid: str):
+    """The wet grip test spec on ``grid``, with the quarter car's largest step
+    ``settings.stop_dt`` (> 0; :func:`screen_study`)."""
+    from tire_brush.braking.wet_grip_test import load_wet_grip_spec
+
+    spec = dataclasses.replace(load_wet_grip_spec(settings.wet_grip_spec), grid=str(grid))
+    if settings.stop_dt > 0.0:
+        spec = dataclasses.replace(spec, simulation=dataclasses.replace(
+            spec.simulation, dt=settings.stop_dt))
+    return spec
 
 
 def dry_temperatures(settings: Settings) -> np.ndarray:
@@ -171,11 +222,12 @@ def stops(study, source, case, compound, params) -> dict[str, float]:
     v_line = np.geomspace(study.v_stop, study.v0, 25)
     sm_line = optimal_slip(fmap, v_line, [car.Fz], [case.T_K], label=case.label)
     schedule = abs_slip_schedule(sm_line) if study.abs_slip_from_map else None
-    locked = simulate_braking(car, fmap, LockedWheel(car.brake_torque_rate_max,
+    point = fmap.point_evaluator()      # the map's spline, one point per call (cheaper)
+    locked = simulate_braking(car, point, LockedWheel(car.brake_torque_rate_max,
                                                      study.abs_params.control_period),
                               study.v0, study.v_stop, case.T_K, settings=study.simulation,
                               brake_torque_initial=study.brake_torque_initial)
-    abs_sim = simulate_braking(car, fmap, RuleBasedABS(study.abs_params, car.radius,
+    abs_sim = simulate_braking(car, point, RuleBasedABS(study.abs_params, car.radius,
                                                        car.brake_torque_rate_max,
                                                        slip_schedule=schedule),
                                study.v0, study.v_stop, case.T_K, settings=study.simulation,
@@ -195,7 +247,6 @@ def evaluate_on_grids(settings: Settings, compound_file: str | Path, dry_grid: s
     from tire_brush.braking.friction import Case
     from tire_brush.braking.wet_grip_test import (
         friction_source,
-        load_wet_grip_spec,
         tire_result,
     )
     from tire_brush.params import load_tire
@@ -211,10 +262,10 @@ def evaluate_on_grids(settings: Settings, compound_file: str | Path, dry_grid: s
     t["rolling_s"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    wspec = dataclasses.replace(load_wet_grip_spec(settings.wet_grip_spec), grid=str(wet_grid))
+    wspec = screen_wet_grip_spec(settings, str(wet_grid))
     grids = (load_grid(str(wet_grid)), load_wet(str(wet_grid)))
     cand, _ = tire_result(wspec, settings.tire, wspec.T_K, wspec.water_depth, grids,
-                          with_dry=False)
+                          with_dry=False, point_evaluation=True)
     t["wet_grip_s"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -329,7 +380,7 @@ def evaluate_reference(settings: Settings, desc: dict[str, Any], key: str) -> di
     from lookup.grid import load_grid
     from lookup.grid.build import build_grid
     from lookup.grid.wet import load_wet
-    from tire_brush.braking.wet_grip_test import load_wet_grip_spec, tire_result
+    from tire_brush.braking.wet_grip_test import tire_result
 
     from .compounds import write_compound
 
@@ -345,9 +396,10 @@ def evaluate_reference(settings: Settings, desc: dict[str, Any], key: str) -> di
         build_grid(_grid_spec(settings.wet_spec, str(path), f"{desc['name']}_wet",
                               wet_temperatures(settings)), wet, workers=1, progress=False,
                    resume=False)
-        wspec = dataclasses.replace(load_wet_grip_spec(settings.wet_grip_spec), grid=str(wet))
+        wspec = screen_wet_grip_spec(settings, str(wet))
         ref, _ = tire_result(wspec, wspec.reference_tire, wspec.T_K, wspec.water_depth,
-                             (load_grid(str(wet)), load_wet(str(wet))), with_dry=False)
+                             (load_grid(str(wet)), load_wet(str(wet))), with_dry=False,
+                             point_evaluation=True)
         record["outputs"] = {"bfc_wet": float(ref["bfc_wet"]),
                              "peak_wet_trailer": float(ref["peak_wet"]),
                              "tire": wspec.reference_tire, "T_C": wspec.T_K - 273.15}

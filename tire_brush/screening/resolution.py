@@ -1,12 +1,14 @@
 """How far the screening resolution moves the reported numbers (docs/screening.md).
 
 :func:`compare` evaluates compounds twice with the same code (:func:`.evaluate.
-evaluate_compound`): on grids at the screening resolution and on grids with the full speed and
-pressure axes of the shipped grid specs (``default``: 61 speeds, 15 pressures; ``r117_wet``:
-61 and 8), both with the temperature nodes the outputs read. For the shipped summer tread
-:func:`compare_shipped` also evaluates on the shipped grid files themselves, which is what
-``tirefric label`` and ``tirefric abs study`` read (their temperature axes: every 1.75 K
-from -20 C on ``default``, so 20 C lies between nodes there; every 2 K on ``r117_wet``).
+evaluate_compound`): at the screening resolution and at the full one: the shipped grid
+specs' speed and pressure axes (``default``: 61 speeds, 15 pressures; ``r117_wet``: 61 and 8)
+and the braking study's and wet grip test's own force-map temperatures and quarter-car step
+(:func:`full_settings`), both grids with the temperature nodes their outputs read. For the
+shipped summer tread :func:`compare_shipped` also evaluates on the shipped grid files
+themselves, which is what ``tirefric label`` and ``tirefric abs study`` read (their
+temperature axes: every 1.75 K from -20 C on ``default``, so 20 C lies between nodes there;
+every 2 K on ``r117_wet``).
 """
 
 from __future__ import annotations
@@ -24,12 +26,15 @@ COMPARED: tuple[str, ...] = ("bfc_wet", "peak_wet_trailer", "stop_dry_abs_m",
 
 
 def full_settings(settings: Settings) -> Settings:
-    """The settings with the shipped grid specs' full speed and pressure axes."""
+    """The settings with the shipped grid specs' full speed and pressure axes and the
+    braking study's and the wet grip test's own force-map temperatures and step
+    (``stop_T_step = stop_dt = 0``)."""
     from lookup.grid.spec import load_spec
 
     dry = load_spec(settings.dry_spec.source)
     wet = load_spec(settings.wet_spec.source)
-    return dataclasses.replace(settings, dry_spec=dry, wet_spec=wet)
+    return dataclasses.replace(settings, dry_spec=dry, wet_spec=wet, stop_T_step=0.0,
+                               stop_dt=0.0)
 
 
 def _task(shared: dict[str, Settings], which: str, desc: dict[str, Any]) -> tuple[str, str,
@@ -69,7 +74,8 @@ def compare_shipped(settings: Settings, compound_file: str, dry_grid: str, wet_g
                     ) -> dict[str, dict[str, float]]:
     """The summer tread on the shipped grid files (what the single-compound commands read)
     against the screening resolution."""
-    shipped = evaluate_on_grids(settings, compound_file, dry_grid, wet_grid, "shipped")
+    full = dataclasses.replace(settings, stop_T_step=0.0, stop_dt=0.0)
+    shipped = evaluate_on_grids(full, compound_file, dry_grid, wet_grid, "shipped")
     screen = evaluate_compound(settings, {"name": "summer", "file": compound_file}, "s")
     return {"screen": screen["outputs"], "shipped": shipped["outputs"],
             "rel": relative_differences(screen["outputs"], shipped["outputs"])}

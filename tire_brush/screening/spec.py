@@ -44,6 +44,11 @@ Layout (``models/studies/screen_example.toml`` is a worked example)::
     wet_v_per_decade = 0
     wet_p_nodes = 0
     v_min = "1e-6 m/s"
+    stop_T_step = "7 K"          # the dry stop's force-map temperature nodes: the case
+                                 # temperature and every stop_T_step above it up to the
+                                 # tread's heating bound (0: the study's own nodes)
+    stop_dt = "5 ms"             # largest step of the quarter car (stops and the wet grip
+                                 # test; 0: the study's and the test's own)
 
 Relative paths are taken relative to the spec file. Errors name the file, the field and the
 value (:class:`tirefric.errors.InputError`; several at once as
@@ -75,9 +80,17 @@ METHODS = ("factorial", "lhs", "sobol")
 #: the tolerance against the full-resolution grids is measured there and held by
 #: tests/test_screening.py). 0 keeps the grid spec's own axis: the wet grid has two
 #: temperature nodes only, so its full speed and pressure axes cost little.
+#: ``stop_T_step`` [K] and ``stop_dt`` [s] coarsen the braking study's settings for the
+#: stops (:func:`tire_brush.screening.evaluate.screen_study`; 0 keeps the study's own): the
+#: force map's temperature nodes from the case temperature up every 7 K to the tread's
+#: heating bound (0, 7, 14, 21 K for abs_default; the study: -4, 0, 4 K, then every 2 K to
+#: 20 K) and the quarter car's largest step 5 ms, the ABS controller's period (the study:
+#: 0.5 ms; the step control still shortens the steps where the wheel needs it,
+#: tire_brush.braking.simulation). docs/screening.md measures both.
 DEFAULT_RESOLUTION: dict[str, float] = {"dry_v_per_decade": 4, "dry_p_nodes": 10,
                                         "wet_v_per_decade": 0, "wet_p_nodes": 0,
-                                        "v_min": 1e-6}
+                                        "v_min": 1e-6, "stop_T_step": 7.0,
+                                        "stop_dt": 5e-3}
 
 
 @dataclass(frozen=True)
@@ -312,6 +325,11 @@ def load_screen_spec(path: str | Path) -> ScreenSpec:
                 res[f"{road}_p_nodes"] = n_p
         if rs.has("v_min"):
             res["v_min"] = rs.quantity("v_min", "velocity", positive=True)
+        if rs.has("stop_T_step"):
+            res["stop_T_step"] = rs.quantity("stop_T_step", "temperature_difference",
+                                             nonnegative=True)
+        if rs.has("stop_dt"):
+            res["stop_dt"] = rs.quantity("stop_dt", "time", nonnegative=True, maximum=0.01)
         rs.check_unknown()
     root.check_unknown()
     return ScreenSpec(name, str(path), tuple(files), sweep, dry, wet, wet_grip, ref, tire,
@@ -337,7 +355,8 @@ def screen_settings(spec: ScreenSpec, keep: str | None = None):
     return Settings(tire=spec.tire, dry_spec=dry, wet_spec=wet, wet_grip_spec=spec.wet_grip,
                     study=spec.study, v0=spec.v0, v_stop=spec.v_stop, T_K=spec.T_K,
                     peak_T_K=spec.peak_T_K, peak_speed=spec.peak_speed, keep=keep,
-                    version=__version__)
+                    version=__version__, stop_T_step=float(spec.resolution["stop_T_step"]),
+                    stop_dt=float(spec.resolution["stop_dt"]))
 
 
 def full_resolution(settings, dry_spec, wet_spec):
