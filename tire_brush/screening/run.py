@@ -45,6 +45,8 @@ class ScreenResult:
     reused: list[str]
     wall_s: float
     workers: int
+    """Where the computed tasks ran (:func:`lookup.grid.build.pool_size`): 0 on a Dask
+    scheduler, 1 in this process, else the number of local processes."""
     files: dict[str, str] = field(default_factory=dict)
     where: str = ""
 
@@ -87,7 +89,7 @@ def run_screen(spec: ScreenSpec | str | Path, out: str | Path, *, workers: int =
     """
     from tqdm.auto import tqdm
 
-    from lookup.grid.build import pool_label, run_tasks
+    from lookup.grid.build import pool_label, pool_size, run_tasks
 
     if not isinstance(spec, ScreenSpec):
         spec = load_screen_spec(spec)
@@ -132,7 +134,7 @@ def run_screen(spec: ScreenSpec | str | Path, out: str | Path, *, workers: int =
     reference = done[ref_key]
     result = ScreenResult(spec, out, records, reference, computed,
                           [k for _, _, k in jobs if k not in computed], wall,
-                          1 if scheduler is None and workers == 1 else workers, where=where)
+                          pool_size(len(todo), workers, scheduler), where=where)
     if write:
         result.files = write_outputs(result)
     return result
