@@ -488,8 +488,8 @@ def test_whole_tire_dependences_of_real_tires(tire, compound, rr, which, warm):
     stiffness (structure_share; the pressure exponent was +0.18 isothermal, +0.03 warm with
     the series loading alone); the isothermal temperature case fails without the series
     loading of the tread (+0.25 %/K); the warm one passed before too (-0.25 %/K of the
-    ambient: the tire ran at 61.5 C, past the tread's maximum). The model gives -0.14 / -0.30
-    (pressure exponent, isothermal / warm) and -0.37 / -0.29 %/K (docs/rolling.md)."""
+    ambient: the tire ran at 61.5 C, past the tread's maximum). The model gives -0.12 / -0.28
+    (pressure exponent, isothermal / warm) and -0.36 / -0.29 %/K (docs/rolling.md)."""
     (f0, _), (f1, _) = _iso_point(tire, compound, rr, which, warm)
     assert f1 < f0
 

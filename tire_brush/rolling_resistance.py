@@ -80,12 +80,15 @@ stress-controlled (E''/|E|^2) and strain-controlled (E''): Futamura's deformatio
 inflation; the pneumatic part is lossless). :func:`iso28580` evaluates the ISO point at the
 tire's thermal equilibrium (:func:`steady_temperature`), as the standard measures.
 
+The vertical spring whose deflection and work the carcass term uses is MF 6.1/6.2's
+progressive one (:func:`deflection`, :func:`structure_energy`; ``q_fz2``).
+
 Limits (approximate physics, said so; docs/rolling.md, "Limits"): the sidewalls' deflection
-energy of a linear vertical spring grows as :math:`F_z^2`: the whole tire's load exponent
-(1.11 at 25 C, 1.08 warm) stays above the measured ~0.85-1; the change per K (-0.37 %/K at
-25 C, -0.29 %/K of the ambient warm) is short of ISO 28580's -0.8 %/K. One temperature (the
-tread's) stands for the whole tire; the frequency content is that of a ring, not of a shell;
-standing waves (above ~150 km/h) are not modelled.
+energy grows nearly as :math:`F_z^2` (as :math:`F_z^{1.9}` on the MF spring): the whole
+tire's load exponent (1.10 at 25 C, 1.07 warm) stays above the measured ~0.85-1; the change
+per K (-0.36 %/K at 25 C, -0.29 %/K of the ambient warm) is short of ISO 28580's
+-0.8 %/K. One temperature (the tread's) stands for the whole tire; the frequency content is
+that of a ring, not of a shell; standing waves (above ~150 km/h) are not modelled.
 """
 
 from __future__ import annotations
