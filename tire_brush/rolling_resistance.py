@@ -80,12 +80,15 @@ stress-controlled (E''/|E|^2) and strain-controlled (E''): Futamura's deformatio
 inflation; the pneumatic part is lossless). :func:`iso28580` evaluates the ISO point at the
 tire's thermal equilibrium (:func:`steady_temperature`), as the standard measures.
 
+The vertical spring whose deflection and work the carcass term uses is MF 6.1/6.2's
+progressive one (:func:`deflection`, :func:`structure_energy`; ``q_fz2``).
+
 Limits (approximate physics, said so; docs/rolling.md, "Limits"): the sidewalls' deflection
-energy of a linear vertical spring grows as :math:`F_z^2`: the whole tire's load exponent
-(1.11 at 25 C, 1.08 warm) stays above the measured ~0.85-1; the change per K (-0.37 %/K at
-25 C, -0.29 %/K of the ambient warm) is short of ISO 28580's -0.8 %/K. One temperature (the
-tread's) stands for the whole tire; the frequency content is that of a ring, not of a shell;
-standing waves (above ~150 km/h) are not modelled.
+energy grows nearly as :math:`F_z^2` (as :math:`F_z^{1.9}` on the MF spring): the whole
+tire's load exponent (1.10 at 25 C, 1.07 warm) stays above the measured ~0.85-1; the change
+per K (-0.36 %/K at 25 C, -0.29 %/K of the ambient warm) is short of ISO 28580's
+-0.8 %/K. One temperature (the tread's) stands for the whole tire; the frequency content is
+that of a ring, not of a shell; standing waves (above ~150 km/h) are not modelled.
 """
 
 from __future__ import annotations
@@ -196,6 +199,10 @@ class RollingResistanceParams:
         (:func:`belt_compliance`) under the deflection imposed by the road, the patch law's
         pressure being the static one (the deformation index of :func:`deformation_index`).
         ``"series"`` needs ``belt_width`` > 0.
+    q_fz2 : float
+        [1] quadratic term of the MF 6.1/6.2 load-deflection law (MF ``Q_FZ2``) of the
+        vertical spring whose deflection and work the carcass term uses (:func:`deflection`,
+        :func:`structure_energy`); 0: the linear spring Fz = C_z' rho.
     """
 
     tread_depth: float
@@ -217,6 +224,7 @@ class RollingResistanceParams:
     belt_width: float = 0.0
     belt_compound: str = ""
     tread_loading: str = "pressure"
+    q_fz2: float = 0.0
 
     def __post_init__(self) -> None:
         if self.tread_loading not in ("pressure", "series"):
@@ -227,7 +235,7 @@ class RollingResistanceParams:
                                                    and self.belt_width > 0):
             raise InputError("the series loading of the tread needs the belt width (> 0)",
                              field="RollingResistanceParams.belt_width", value=self.belt_width)
-        for name in ("belt_bending_stiffness", "belt_width"):
+        for name in ("belt_bending_stiffness", "belt_width", "q_fz2"):
             x = getattr(self, name)
             if isinstance(x, bool) or not (isinstance(x, int | float) and math.isfinite(x)
                                            and x >= 0):
@@ -380,6 +388,7 @@ def _load_from_file(path: str) -> RollingResistanceParams:
             belt_compound=bcomp,
             tread_loading=tab.string("tread_loading", "pressure",
                                      choices=("pressure", "series")),
+            q_fz2=tab.quantity("q_fz2", "dimensionless", 0.0, nonnegative=True),
             size=tab.string("size", ""),
             load_index=tab.integer("load_index", 0, minimum=0),
             load_index_load=tab.quantity("load_index_load", "force", 0.0, nonnegative=True),
@@ -490,7 +499,7 @@ def belt_compliance(params: TireParams, rr: RollingResistanceParams, Fz: float,
     (no tail, :func:`ring_pulse`) drops the foundation term.
     """
     a, b = params.patch.size(Fz)
-    rho = min(Fz, params.patch.Fz_max) / params.patch.vertical_stiffness
+    rho = deflection(params, rr, min(Fz, params.patch.Fz_max))
     _, lam = ring_pulse(a, rho, params.patch.R0)
     tension = params.patch.p_inflation * params.patch.R0 * rr.belt_width
     q = np.asarray(q, float)
@@ -778,7 +787,7 @@ m belt}` (the ring's pretension by the inflation
     if EI <= 0.0:
         return BeltBending(zero, zero, zero, 0.0)
     a, _ = params.patch.size(Fz)
-    rho = min(Fz, params.patch.Fz_max) / params.patch.vertical_stiffness
+    rho = deflection(params, rr, min(Fz, params.patch.Fz_max))
     tension = params.patch.p_inflation * params.patch.R0 * rr.belt_width
     l_b = math.sqrt(EI / tension) if tension > 0 else 0.0
     c = belt_harmonics(a, rho, params.patch.R0, params.R_e, l_b, n_rev)
@@ -825,6 +834,65 @@ def structure_share(params: TireParams, rr: RollingResistanceParams) -> float:
     return rr.deflection_energy_share * params.patch.C_z / params.patch.vertical_stiffness
 
 
+def _mf_vertical(params: TireParams, rr: RollingResistanceParams) -> tuple[float, float]:
+    """(q_Fz1, q_Fz2) of the MF 6.1/6.2 load-deflection law (:func:`deflection`)."""
+    patch = params.patch
+    c = patch.C_z * patch.R0 / params.Fz_nom
+    disc = c * c - 4.0 * rr.q_fz2
+    if not disc > 0.0:
+        raise InputError(f"the MF load-deflection law needs (C_z R0/Fz_nom)^2 = {c * c:.4g} "
+                         "> 4 q_fz2", field="RollingResistanceParams.q_fz2", value=rr.q_fz2)
+    return math.sqrt(disc), rr.q_fz2
+
+
+def deflection(params: TireParams, rr: RollingResistanceParams, Fz: float) -> float:
+    r"""Vertical deflection rho [m] of the tire under the load Fz [N] at its inflation pressure.
+
+    The MF-Tyre 6.1/6.2 vertical force on a flat road, free rolling, without camber, speed or
+    horizontal-force terms (Pacejka, *Tire and Vehicle Dynamics*, 3rd ed. (2012), eq. (A3.3);
+    Besselink, Schmeitz & Pacejka, *Veh. Syst. Dyn.* 48, suppl. 1, 337 (2010), which adds the
+    pressure factor):
+
+    .. math:: F_z = \bigl(1 + p_{Fz1}\,dp_i\bigr)\,F_{z0}\,
+              \bigl(q_{Fz1}\,\xi + q_{Fz2}\,\xi^2\bigr),\qquad \xi = \rho/R_0,
+              \qquad q_{Fz1} = \sqrt{(C_z R_0/F_{z0})^2 - 4 q_{Fz2}} ,
+
+    dp_i = (p - p_nom)/p_nom; q_Fz1 is not a file parameter but follows from the vertical
+    stiffness C_z, which is the slope dFz/drho at the nominal load F_z0 and pressure (the
+    relation MFeval and TNO's MF-Tyre use for FITTYP 61/62). The spring stiffens with the
+    deflection: at F_z0 the local exponent d ln F_z / d ln rho is above 1. Solved for xi in the
+    form without cancellation, :math:`\xi = 2\tilde F/(q_{Fz1} + \sqrt{q_{Fz1}^2 +
+    4 q_{Fz2}\tilde F})`, :math:`\tilde F = F_z/((1 + p_{Fz1} dp_i) F_{z0})`. With
+    q_Fz2 = 0 it is the linear spring :math:`\rho = F_z/C_z'` of
+    :attr:`~tire_brush.params.PatchLaw.vertical_stiffness`.
+    """
+    q1, q2 = _mf_vertical(params, rr)
+    patch = params.patch
+    F = max(float(Fz), 0.0) / (params.Fz_nom * patch.vertical_stiffness / patch.C_z)
+    return patch.R0 * 2.0 * F / (q1 + math.sqrt(q1 * q1 + 4.0 * q2 * F))
+
+
+def structure_energy(params: TireParams, rr: RollingResistanceParams, Fz: float) -> float:
+    r"""Deflection work [J] stored in the lossy structure at the load Fz [N].
+
+    The MF pressure factor multiplies the whole load-deflection law (:func:`deflection`), so the
+    structural spring (the share :math:`\chi` = ``deflection_energy_share`` of the force at
+    p_nom, which does not change with the pressure; :func:`structure_share`) carries
+    :math:`\chi F_{z0}(q_{Fz1}\xi + q_{Fz2}\xi^2)` at the deflection :math:`\xi = \rho/R_0`
+    and stores its integral over the deflection,
+
+    .. math:: U_s = \chi\,F_{z0} R_0\,\bigl(q_{Fz1}\xi^2/2 + q_{Fz2}\xi^3/3\bigr) ,
+
+    which for q_Fz2 = 0 is :math:`\chi_p F_z^2/(2C_z')` of the linear spring. A progressive
+    spring stores less than that at a load above the one where its secant stiffness equals
+    C_z': the work grows more slowly than :math:`F_z^2`.
+    """
+    q1, q2 = _mf_vertical(params, rr)
+    xi = deflection(params, rr, Fz) / params.patch.R0
+    return (rr.deflection_energy_share * params.Fz_nom * params.patch.R0
+            * (0.5 * q1 * xi * xi + q2 * xi ** 3 / 3.0))
+
+
 def carcass_coefficient(params: TireParams, rr: RollingResistanceParams, Fz: float,
                         V: np.ndarray, T: np.ndarray, n_rev: int = _N_REV,
                         U_belt: float | np.ndarray = 0.0) -> np.ndarray:
@@ -840,7 +908,7 @@ def carcass_coefficient(params: TireParams, rr: RollingResistanceParams, Fz: flo
     """
     a, _ = params.patch.size(Fz)
     if rr.carcass_pulse == "ring":
-        rho = min(Fz, params.patch.Fz_max) / params.patch.vertical_stiffness
+        rho = deflection(params, rr, min(Fz, params.patch.Fz_max))
         w = ring_pulse_weights(a, rho, params.patch.R0, params.R_e, n_rev)
     else:
         w = harmonic_weights(a, params.R_e, n_rev)
@@ -850,11 +918,10 @@ def carcass_coefficient(params: TireParams, rr: RollingResistanceParams, Fz: flo
     Vb, Tb = np.broadcast_arrays(V, T)
     omega = Vb[..., None] / params.R_e * n
     eta = rr.carcass_loss(omega, Tb[..., None])
-    chi = structure_share(params, rr)
-    base = chi * Fz / (params.patch.vertical_stiffness * params.R_e)
-    U = chi * Fz * Fz / (2.0 * params.patch.vertical_stiffness)
+    U = structure_energy(params, rr, Fz)
+    base = 2.0 * U / (Fz * params.R_e) if Fz > 0 else 0.0
     # the belt's and tread band's bending energy is part of the structure's deflection work
-    share = np.maximum(U - np.asarray(U_belt, float), 0.0) / U
+    share = np.maximum(U - np.asarray(U_belt, float), 0.0) / U if U > 0 else 0.0
     return base * share * np.sum(n * w * eta, axis=-1)
 
 
