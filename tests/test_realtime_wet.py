@@ -236,8 +236,13 @@ def test_table_files_formats_and_keys(wet_setup):
     assert wt.key != dry.key
 
 
-@pytest.fixture(scope="module", params=["pythonfmu", "native"])
+@pytest.fixture(scope="module", params=[pytest.param("pythonfmu", marks=pytest.mark.slow),
+                                        "native"])
 def wet_rt_fmu(request, tmp_path_factory):
+    """A real-time build of the passenger tire on the wet grid (the small axes), in either
+    flavour. The fast suite builds the native one only: the flavours share the core and the
+    resources (the dry fidelity-1 test of test_realtime_fmu.py runs both), the pythonfmu one
+    (about 40 s of building and stepping through Python on a shared machine) is slow."""
     from fmu_src.make.build import BuildOptions, build_fmu
 
     d = tmp_path_factory.mktemp(f"rtwet_{request.param}")
@@ -252,6 +257,29 @@ def wet_rt_fmu(request, tmp_path_factory):
                                            platforms=("linux64",)).path
 
 
+def _fmu_rolling_table(fmu):
+    """The rolling-resistance table packed in an FMU (build.json's ``rolling``: ``file`` in
+    the data folder of a pythonfmu build, ``table`` in the resources of a native one),
+    checked against the build's hash and read as the pythonfmu slave reads it."""
+    import hashlib
+    import json
+    import zipfile
+    from types import SimpleNamespace
+
+    from fmu_src.runtime.slave import DATA_DIR
+    from fmu_src.runtime.table_file import read_table_bytes
+
+    with zipfile.ZipFile(fmu) as z:
+        spec = json.loads(z.read(f"resources/{DATA_DIR}/build.json"))["rolling"]
+        name = f"resources/{DATA_DIR}/{spec['file']}" if spec.get("file") else \
+            f"resources/{spec['table']}"
+        data = z.read(name)
+    assert "sha256:" + hashlib.sha256(data).hexdigest() == spec["sha256"]
+    t = read_table_bytes(data)
+    return SimpleNamespace(log10_v=t["log10_v"], T=t["T"], log10_Fz=t["log10_p"],
+                           f_r=t["values"][..., 0], tread_share=t["values"][..., 1])
+
+
 def test_wet_fmu_at_fidelity_1_is_the_python_model(wet_rt_fmu, wet_setup):
     """A real-time build on the wet grid carries the layered table; through fmpy at
     ``fidelity`` 1, braking with the water stepping 0 -> 0.5 -> 1 -> 3 mm, it computes what
@@ -262,13 +290,14 @@ def test_wet_fmu_at_fidelity_1_is_the_python_model(wet_rt_fmu, wet_setup):
     tp, grid, wet, _, _ = wet_setup
     _, fmu = wet_rt_fmu
     from tire_brush.realtime_build import cached_patch_table
-    from tire_brush.rolling_resistance import rolling_table
 
     table, _ = cached_patch_table(tp, GridFriction(grid), axes=SMALL_AXES, wet=wet)
     assert table.depth.size == 2
     model = TransientBrushTire(tp, GridFriction(grid), patch=table)
     model.set_wet(wet, texture_depth=0.0)
-    model.set_rolling(rolling_table(tp, grid)[0])          # the build's, as the FMU's
+    # the build's rolling-resistance table, read from the FMU as its slave reads it (not
+    # computed again: it does not depend on the fidelity, and computing it costs ~10 s)
+    model.set_rolling(_fmu_rolling_table(fmu))
     U = braking_inputs(400)
     U[4] = 293.15
     U[7] = np.repeat([0.0, 0.5e-3, 1e-3, 3e-3], 100)

@@ -125,31 +125,50 @@ def _wet_march(params: Any, table: Any, n_cells: int, tol: float, wet: tuple, Vs
                                       Tax.size - 2)
     r = slice(iT, iT + 2)
     c0, c1, h0, h1, wd = c0[:, r], c1[:, r], h0[:, r], h1[:, r], wd[:, :, r]
-    T_rows = Tax[r]
+    T_rows = np.ascontiguousarray(Tax[r])
     P = ccore.core_params(params, n_elements=n_cells, dt_internal=1.0, tol=tol,
                           v_floor=V_FLOOR, thermal=False, rigid=True, massless=False)
     lib = ccore.load()
-    out = np.zeros((Vsx.size, ccore.STEADY_OUT))
-    o = np.zeros(ccore.STEADY_OUT)
-    vals = np.array(table.values[:, r], float)
-    for j in range(Vsx.size):
-        a, _ = params.patch.size(float(Fz[j]))
+    n = Vsx.size
+    # the drainage-time cell of every point, then the points grouped by it: points of one
+    # cell and fraction read the same friction (e.g. theta and -theta at an inclination,
+    # every direction at zero slip), so one friction table and one call of the march serve
+    # them all; the march of a point does not depend on the others in its call (tf_steady)
+    half = {F: params.patch.size(F)[0] for F in set(Fz.tolist())}
+    cells: dict[tuple[int, float], list[int]] = {}
+    for j in range(n):
+        a = half[float(Fz[j])]
         U = 0.5 * (abs(float(Vr[j] + Vsx[j])) + abs(float(Vr[j])))
         lt = math.log10(drain_scale * (2.0 * a / U)) if U > 0.0 and a > 0.0 else math.inf
-        i, f = _cell(lt_ax, lt)                     # the drainage-time cell
+        cells.setdefault(_cell(lt_ax, lt), []).append(j)
+    pts = np.ascontiguousarray(np.stack([Vsx, Vsy, Vr, Fz, np.full(n, float(g))], axis=1),
+                               dtype=float)
+    out = np.zeros((n, ccore.STEADY_OUT))
+    vals = np.array(table.values[:, r], float)     # C-contiguous: refilled for each cell
+    axes = [np.ascontiguousarray(a, float) for a in (table.log10_v, T_rows, table.log10_p)]
+    nv, nT, npp = (a.size for a in axes)
+    ax_ptrs = [ccore._ptr(a) for a in axes]
+    v_ptr = ccore._ptr(vals)
+    for (i, f), idx in cells.items():
         ws = (1.0 - f) * wd[i] + f * wd[i + 1]
         ws = np.where(ws > 0.0, ws, 0.0)
         ws = np.where(ws > 1.0, 1.0, ws)
         vals[..., 0] = (1.0 - ws) * c0 + ws * c1
         vals[..., 1] = (1.0 - ws) * h0 + ws * h1
-        ct = ccore.CoreTable(table.log10_v, T_rows, table.log10_p, vals, table.inv_s0)
-        pts = np.ascontiguousarray([[Vsx[j], Vsy[j], Vr[j], Fz[j], g]], dtype=float)
-        rc = lib.tf_steady(ctypes.byref(P), ct.handle, n_cells, 1, ccore._ptr(pts), float(T),
-                           1.0, ccore._ptr(o))
+        handle = lib.tf_table_new(nv, nT, npp, *ax_ptrs, v_ptr, float(table.inv_s0))
+        if not handle:
+            raise InputError("the tire core refused the wet friction table", field="wet")
+        q = np.ascontiguousarray(pts[idx])
+        o = np.zeros((len(idx), ccore.STEADY_OUT))
+        try:
+            rc = lib.tf_steady(ctypes.byref(P), handle, n_cells, len(idx), ccore._ptr(q),
+                               float(T), 1.0, ccore._ptr(o))
+        finally:
+            lib.tf_table_free(handle)
         if rc != 0:
             raise InputError("the tire core refused the operating point", field="points",
-                             value=pts.tolist())
-        out[j] = o
+                             value=q.tolist())
+        out[idx] = o
     return out.T.copy()
 
 
@@ -289,8 +308,14 @@ def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None
                   ax["theta"], ax["rho"], *extra) for g in ax["gamma"] for T in ax["T"]]
     if processes > 1:
         import multiprocessing as mp
+        # the costliest layers first (a wet one marches point by point, an inclined one every
+        # direction), so that the workers finish together instead of one waiting on the last
+        order = sorted(range(len(jobs)), key=lambda i: (-len(jobs[i]), -jobs[i][4]))
         with mp.get_context("fork").Pool(processes) as pool:
-            layers = pool.map(_layer, jobs, chunksize=1)
+            done = pool.map(_layer, [jobs[i] for i in order], chunksize=1)
+        layers = [None] * len(jobs)
+        for i, lay in zip(order, done, strict=True):
+            layers[i] = lay
     else:
         layers = [_layer(j) for j in jobs]
     lead = (len(depths), ax["gamma"].size, ax["T"].size)
