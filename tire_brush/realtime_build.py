@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import ctypes
 import hashlib
+import itertools
 import math
 import os
 import tempfile
@@ -62,7 +63,7 @@ def table_key(params: Any, table: Any, axes: dict[str, np.ndarray], n_cells: int
     h.update(repr((n_cells, tol, "rho_n = rho / (rho + q (1 - rho))", "f0")).encode())
     if wet is not None:
         h.update(repr(("wet", str(wet.meta.get("hash", "")), float(drain_scale),
-                       "U = V_r + V_sx / 2")).encode())
+                       "U = V_r + V_sx / 2", DEPTH_LAW)).encode())
         for name in ("water_depth", "log10_t_drain"):
             h.update(np.ascontiguousarray(wet.axes[name], float).tobytes())
         for name in sorted(wet.variables):
@@ -70,6 +71,69 @@ def table_key(params: Any, table: Any, axes: dict[str, np.ndarray], n_cells: int
         if depths is not None:
             h.update(np.ascontiguousarray(depths, float).tobytes())
     return h.hexdigest()
+
+
+#: What the depth law between two layers is measured on (:func:`depth_law`; part of the key).
+DEPTH_LAW = ("s = f - kappa f (1 - f); friction (cold + hot) / 2 at the slip speed, "
+             "Fz / (2 a b), the node's drainage time, mid-depth")
+
+
+def depth_law(params: Any, wet: Any, depths: Any, ax: dict[str, np.ndarray],
+              drain_scale: float = 1.0) -> np.ndarray:
+    """The full model's depth law between neighbouring layers of a patch table, at each node
+    (:attr:`tire_brush.realtime.PatchTable.depth_law`).
+
+    The full model reads the wet branch at a depth between its nodes as the product of two
+    interpolations linear in the depth (:mod:`lookup.grid.wet`: the dry share ``w`` and the
+    frictions ``mu_w0``, ``mu_w1`` at either share), so its friction
+    ``(1 - w) mu_w0 + w mu_w1`` is quadratic in the fraction ``f`` of the way between two
+    depths, ``mu(f) = (1 - s) mu(0) + s mu(1)`` with ``s = f - kappa f (1 - f)``; on water
+    it stays above the chord (``kappa > 0``: the dry share falls as the adhesion it carries
+    does). The patch's force is a nonlinear function of the friction, but between two
+    layers of one node it follows the friction far more closely than the depth (the
+    sliding zone's force is the friction's; the adhering zone's does not depend on it): the
+    table reads the layers with the weights ``1 - s`` and ``s``.
+
+    ``kappa`` is measured on the friction where the node's patch slides: at its slip speed
+    ``|V|`` (clamped to the branch's first node), its tread temperature, the mean pressure
+    ``Fz / (2 a b)`` and its drainage time (that of the march, :func:`_wet_march`), the
+    mean of the cold and hot branches (eq. (28) blends between them), at the two layers'
+    depths and midway; ``s`` there gives ``kappa = 2 - 4 s``, clamped to [-1, 1] (``s``
+    monotonic in ``f``). Exact for the friction between layers within one cell of the
+    branch's depths; a fit through the midpoint across a node of the branch.
+
+    Returns shape ``(len(depths) - 1, n_gamma, n_T, n_Fz, n_v, n_theta, n_rho)``.
+    """
+    Fz_ax = np.asarray(ax["Fz"], float)
+    TT, F, LV, TH, RN = np.meshgrid(ax["T"], Fz_ax, ax["log10_v"], ax["theta"], ax["rho"],
+                                    indexing="ij")
+    q = np.interp(F, Fz_ax, full_sliding_share(params, Fz_ax))
+    RHO = RN * q / (1.0 - RN * (1.0 - q))          # as _layer
+    vref = 10.0 ** LV
+    s = RHO * vref
+    Vr = vref - s
+    U = 0.5 * (np.abs(Vr + s * np.cos(TH)) + np.abs(Vr))
+    size = np.array([params.patch.size(float(f)) for f in Fz_ax])
+    ia = np.searchsorted(Fz_ax, F)
+    a, b = size[ia, 0], size[ia, 1]
+    t = drain_scale * (2.0 * a / U)
+    p = F / (2.0 * a * b)
+    v = np.maximum(s, 10.0 ** float(wet.axes["log10_v"][0]))
+
+    def mu(d: float) -> np.ndarray:
+        r = wet.interpolate(v, TT, p, d, t)
+        return 0.5 * (r["mu_wet_cold"] + r["mu_wet_hot"])
+
+    out = []
+    for d0, d1 in itertools.pairwise(depths):
+        m0, m1, mm = mu(float(d0)), mu(float(d1)), mu(0.5 * (float(d0) + float(d1)))
+        den = m1 - m0
+        ok = np.abs(den) > 1e-9
+        sm = np.where(ok, (mm - m0) / np.where(ok, den, 1.0), 0.5)
+        out.append(np.clip(2.0 - 4.0 * sm, -1.0, 1.0))
+    k = np.stack(out)
+    return np.ascontiguousarray(np.broadcast_to(k[:, None], (k.shape[0], len(ax["gamma"]),
+                                                              *k.shape[1:])))
 
 
 def _wet_layer_arrays(table: Any, wet: Any, d: float) -> tuple[np.ndarray, ...]:
@@ -327,7 +391,9 @@ def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None
                       full_sliding_share(params, ax["Fz"]), f0, vals,
                       key=table_key(params, table, ax, n_cells, tol, wet, drain_scale,
                                     None if wet is None else depths),
-                      depth=np.array(depths))
+                      depth=np.array(depths),
+                      depth_law=None if len(depths) < 2 else depth_law(params, wet, depths,
+                                                                        ax, drain_scale))
 
 
 def cache_dir() -> Path:

@@ -22,6 +22,8 @@ struct tf_patch {
     int nd;                        /* water-depth layers (1: the dry road only) */
     double *depth;                 /* their water depths [m], from 0 (the dry road) */
     size_t lval, lf0;              /* doubles per layer in val and f0 */
+    double *law;                   /* the depth law's curvature between neighbouring layers,
+                                    * (nd - 1, gamma, T, Fz, v, theta, rho), or NULL */
 };
 
 tf_patch *tf_patch_new(const int *n, const double *axes, const double *q, const double *f0,
@@ -103,7 +105,21 @@ void tf_patch_free(tf_patch *pt) {
     free(pt->q);
     free(pt->f0);
     free(pt->depth);
+    free(pt->law);
     free(pt);
+}
+
+int tf_patch_set_depth_law(tf_patch *pt, const double *law) {
+    if (!pt || !law || pt->nd < 2) return -1;
+    size_t nn = pt->lval / TF_PATCH_NV, m = nn * (size_t)(pt->nd - 1);
+    for (size_t i = 0; i < m; i++)
+        if (!(fabs(law[i]) <= 1.0)) return -1;
+    double *k = malloc(sizeof(double) * m);
+    if (!k) return -1;
+    memcpy(k, law, sizeof(double) * m);
+    free(pt->law);
+    pt->law = k;
+    return 0;
 }
 
 int tf_patch_layers(const tf_patch *pt) { return pt ? pt->nd : 0; }
@@ -171,6 +187,32 @@ int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, doubl
     if (pt->nd > 1) {
         double dinv;
         locate_ax(pt->nd, pt->depth, d_water, &il, &fl, &dinv);
+        if (pt->law && fl > 0.0 && fl < 1.0) {
+            /* the full model's depth law between the two layers (tirert.h): its curvature
+             * at the point, multilinear over the node cell as the values */
+            size_t sn[TF_PATCH_NAX];
+            for (int k = 0; k < TF_PATCH_NAX; k++) sn[k] = pt->stride[k] / TF_PATCH_NV;
+            const double *law = pt->law + (size_t)il * (pt->lval / TF_PATCH_NV) +
+                                base / TF_PATCH_NV;
+            double kap = 0.0;
+            for (int c = 0; c < 16; c++) {
+                double w = 1.0;
+                size_t off = 0;
+                for (int k = 0; k < 4; k++) {
+                    int bit = (c >> (3 - k)) & 1;
+                    double f = lf[k];
+                    w *= bit ? f : 1.0 - f;
+                    off += (size_t)bit * sn[k];
+                }
+                if (w == 0.0) continue;
+                const double *k00 = law + off, *k10 = k00 + sn[4];
+                double a00 = k00[0], a01 = k00[sn[5]], a10 = k10[0], a11 = k10[sn[5]];
+                double lo = a00 + fr * (a01 - a00);
+                double hi = a10 + fr * (a11 - a10);
+                kap += w * (lo + ft * (hi - lo));
+            }
+            fl = fl - kap * (fl * (1.0 - fl));
+        }
     }
     for (int l = 0; l < 2; l++) {
         double wl = l ? fl : 1.0 - fl;
