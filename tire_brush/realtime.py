@@ -364,6 +364,23 @@ class PatchEval:
         # the outer (gamma, T, Fz, v) cell's first node in the zero-slip force array
         ob = ((loc[0][0] * n[1] + loc[1][0]) * n[2] + loc[2][0]) * n[3] + loc[3][0]
         g0x = g0y = 0.0
+        # the 16 outer corners (gamma, T, Fz, v) with a weight: their weights and offsets from
+        # the cell's first node, each corner with its 2 x 2 (theta, rho) cell
+        cw: list[float] = []
+        co: list[int] = []
+        for c in range(16):
+            w = 1.0
+            off = 0
+            for k in range(4):
+                bit = (c >> (3 - k)) & 1
+                f = loc[k][1]
+                w *= f if bit else 1.0 - f
+                off += bit * strides[k]
+            if w == 0.0:
+                continue
+            cw.append(w)
+            co.append(off)
+        ft, fr = loc[4][1], loc[5][1]
         # the water depth: the two layers about it, clamped to the layers' depths (a dry-only
         # table: the one layer)
         il, fl = 0, 0.0
@@ -372,26 +389,17 @@ class PatchEval:
             if self.law is not None and fl > 0.0 and fl < 1.0:
                 # the full model's depth law between the two layers (PatchTable.depth_law):
                 # its curvature at the point, multilinear over the node cell as the values
+                s4, s5 = strides[4] // N_VALUES, strides[5] // N_VALUES
                 kb = il * (self.lval // N_VALUES) + base // N_VALUES
                 kap = 0.0
-                ft, fr = loc[4][1], loc[5][1]
-                for c in range(16):
-                    w = 1.0
-                    off = kb
-                    for k in range(4):
-                        bit = (c >> (3 - k)) & 1
-                        f = loc[k][1]
-                        w *= f if bit else 1.0 - f
-                        off += bit * (strides[k] // N_VALUES)
-                    if w == 0.0:
-                        continue
-                    a00 = self.law[off]
-                    a01 = self.law[off + strides[5] // N_VALUES]
-                    a10 = self.law[off + strides[4] // N_VALUES]
-                    a11 = self.law[off + strides[4] // N_VALUES + strides[5] // N_VALUES]
+                for i in range(len(cw)):
+                    k00 = kb + co[i] // N_VALUES
+                    k10 = k00 + s4
+                    a00, a01 = self.law[k00], self.law[k00 + s5]
+                    a10, a11 = self.law[k10], self.law[k10 + s5]
                     lo = a00 + fr * (a01 - a00)
                     hi = a10 + fr * (a11 - a10)
-                    kap += w * (lo + ft * (hi - lo))
+                    kap += cw[i] * (lo + ft * (hi - lo))
                 fl = fl - kap * (fl * (1.0 - fl))
         for lay in range(2):
             wl = fl if lay else 1.0 - fl
@@ -399,21 +407,12 @@ class PatchEval:
                 continue
             lbase = base + (il + lay) * self.lval
             lob = ob + (il + lay) * (self.lf0 // 2)
-            # the 16 outer corners (gamma, T, Fz, v), each with its 2 x 2 (theta, rho) cell
-            for c in range(16):
-                w = wl
-                off = lbase
-                for k in range(4):
-                    bit = (c >> (3 - k)) & 1
-                    f = loc[k][1]
-                    w *= f if bit else 1.0 - f
-                    off += bit * strides[k]
-                if w == 0.0:
-                    continue
-                o0 = 2 * (lob + (off - lbase) // strides[3])
+            for i in range(len(cw)):
+                w = wl * cw[i]
+                off = lbase + co[i]
+                o0 = 2 * (lob + co[i] // strides[3])
                 g0x += w * self.f0[o0]
                 g0y += w * self.f0[o0 + 1]
-                ft, fr = loc[4][1], loc[5][1]
                 p00 = off
                 p01 = off + strides[5]
                 p10 = off + strides[4]

@@ -180,6 +180,24 @@ int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, doubl
     size_t ob = (((size_t)li[0] * pt->n[1] + li[1]) * pt->n[2] + li[2]) * pt->n[3] + li[3];
     double g0x = 0.0, g0y = 0.0;
     double ft = lf[4], fr = lf[5];
+    /* the 16 outer corners (gamma, T, Fz, v) with a weight: their weights and offsets from
+     * the cell's first node, each corner with its 2 x 2 (theta, rho) cell */
+    double cw[16];
+    size_t co[16];
+    int nc = 0;
+    for (int c = 0; c < 16; c++) {
+        double w = 1.0;
+        size_t off = 0;
+        for (int k = 0; k < 4; k++) {
+            int bit = (c >> (3 - k)) & 1;
+            double f = lf[k];
+            w *= bit ? f : 1.0 - f;
+            off += (size_t)bit * pt->stride[k];
+        }
+        if (w == 0.0) continue;
+        cw[nc] = w;
+        co[nc++] = off;
+    }
     /* the water depth: the two layers about it, clamped to the layers' depths as the full
      * model clamps the wet branch (a dry-only table: its one layer) */
     int il = 0;
@@ -190,26 +208,16 @@ int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, doubl
         if (pt->law && fl > 0.0 && fl < 1.0) {
             /* the full model's depth law between the two layers (tirert.h): its curvature
              * at the point, multilinear over the node cell as the values */
-            size_t sn[TF_PATCH_NAX];
-            for (int k = 0; k < TF_PATCH_NAX; k++) sn[k] = pt->stride[k] / TF_PATCH_NV;
+            size_t s4 = pt->stride[4] / TF_PATCH_NV, s5 = pt->stride[5] / TF_PATCH_NV;
             const double *law = pt->law + (size_t)il * (pt->lval / TF_PATCH_NV) +
                                 base / TF_PATCH_NV;
             double kap = 0.0;
-            for (int c = 0; c < 16; c++) {
-                double w = 1.0;
-                size_t off = 0;
-                for (int k = 0; k < 4; k++) {
-                    int bit = (c >> (3 - k)) & 1;
-                    double f = lf[k];
-                    w *= bit ? f : 1.0 - f;
-                    off += (size_t)bit * sn[k];
-                }
-                if (w == 0.0) continue;
-                const double *k00 = law + off, *k10 = k00 + sn[4];
-                double a00 = k00[0], a01 = k00[sn[5]], a10 = k10[0], a11 = k10[sn[5]];
+            for (int i = 0; i < nc; i++) {
+                const double *k00 = law + co[i] / TF_PATCH_NV, *k10 = k00 + s4;
+                double a00 = k00[0], a01 = k00[s5], a10 = k10[0], a11 = k10[s5];
                 double lo = a00 + fr * (a01 - a00);
                 double hi = a10 + fr * (a11 - a10);
-                kap += w * (lo + ft * (hi - lo));
+                kap += cw[i] * (lo + ft * (hi - lo));
             }
             fl = fl - kap * (fl * (1.0 - fl));
         }
@@ -219,18 +227,10 @@ int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, doubl
         if (wl == 0.0) continue;
         const double *val = pt->val + (size_t)(il + l) * pt->lval;
         const double *f0 = pt->f0 + (size_t)(il + l) * pt->lf0;
-        /* the 16 outer corners (gamma, T, Fz, v), each with its 2 x 2 (theta, rho) cell */
-        for (int c = 0; c < 16; c++) {
-            double w = wl;
-            size_t off = base;
-            for (int k = 0; k < 4; k++) {
-                int bit = (c >> (3 - k)) & 1;
-                double f = lf[k];
-                w *= bit ? f : 1.0 - f;
-                off += (size_t)bit * pt->stride[k];
-            }
-            if (w == 0.0) continue;
-            size_t o0 = 2 * (ob + (off - base) / pt->stride[3]);
+        for (int i = 0; i < nc; i++) {
+            double w = wl * cw[i];
+            size_t off = base + co[i];
+            size_t o0 = 2 * (ob + co[i] / pt->stride[3]);
             g0x += w * f0[o0];
             g0y += w * f0[o0 + 1];
             const double *v00 = val + off, *v01 = v00 + pt->stride[5];
