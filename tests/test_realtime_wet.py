@@ -4,8 +4,10 @@ On a grid with a wet branch the patch table has a layer per water-depth node of 
 depth 0 the dry road's table itself, the others the steady march on the wet friction the full
 model reads at each node (its drainage time from the node's speed and load). The tests pin
 that construction to an independent path (:mod:`tire_brush.wet_friction`), the depth-0 read
-to the dry table, the C core to the Python reference bit for bit, the depth read to the
-physics (water never raises the friction at a fixed slip), the file formats and the FMUs.
+to the dry table, the depth law between layers to the friction the full model reads there
+(a closed form) and the read between layers to a layer marched there, the C core to the
+Python reference bit for bit, the depth read to the physics (water never raises the friction
+at a fixed slip), the file formats and the FMUs.
 Agreement with the full model on the wet road is the slow test at the end (and
 benchmarks/bench_realtime.py).
 """

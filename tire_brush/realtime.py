@@ -47,7 +47,8 @@ MF-Swift, FTire's real-time mode). This module is that reduced model of the same
 * **Water.** A table built on a grid with a wet branch has a layer per water depth (depth 0
   the dry road's), each the steady march on the wet friction the full model reads at its
   nodes (:func:`tire_brush.realtime_build.build_patch_table`); the water depth is read
-  linearly between the two layers about it, clamped to the layers' depths.
+  between the two layers about it by the full model's depth law of the friction
+  (:attr:`PatchTable.depth_law`), clamped to the layers' depths.
 
 This file is the readable reference of ``tire_brush/csrc/tirert.c``, operation for operation;
 the tests pin the two together. It imports numpy and the standard library only at module level
@@ -302,8 +303,9 @@ class PatchEval:
 
     Call with the patch slip velocity ``(Vx, Vy)`` [m/s], the rolling speed ``V_r`` [m/s], the
     load ``Fz`` [N], temperature ``T`` [K], inclination ``gamma`` [rad] and the water depth
-    ``d_water`` [m] (default 0, the dry road; linear between the table's two layers about it,
-    clamped to their depths as the full model clamps the wet branch); returns
+    ``d_water`` [m] (default 0, the dry road; between the table's two layers about it by
+    their depth law, :attr:`PatchTable.depth_law`, or linearly without one; clamped to their
+    depths as the full model clamps the wet branch); returns
     ``(F, J, extra, flags)``: ``F = [Fx, Fy, Mz, M_belt]``, ``J`` their derivatives by ``Vx``
     and ``Vy`` (row-major 4 x 2), ``extra = [mu_slide, sliding_fraction, dT_flash_max, power
     [W]]``, and 2 when ``T`` lies outside the table's temperature axis.
