@@ -106,6 +106,31 @@ def test_wet_layer_is_the_march_on_the_wet_friction(wet_setup, rng):
         assert abs(r[2] / Fz - wt.values[(1, *idx, 2)]) < 1e-9, idx
 
 
+def test_wet_march_shares_friction_without_changing_a_node(wet_setup):
+    """The wet layer's march groups the nodes by the drainage-time cell they read (one
+    friction table and one call of the core's march per group: the build's cost); a node's
+    march does not depend on the others in its call, so the grouped march equals the march
+    of each node alone bit for bit (the table does not change with the grouping)."""
+    import numpy.testing as npt
+
+    from tire_brush.friction import as_table
+    from tire_brush.realtime_build import _wet_layer_arrays, _wet_march
+
+    tp, grid, wet, _, _ = wet_setup
+    table = as_table(grid)
+    args = (*_wet_layer_arrays(table, wet, 1e-3), np.asarray(wet.axes["log10_t_drain"]), 1.0)
+    # theta and -theta at each slip (the same drainage time: one group), and zero slip
+    s = np.repeat([0.0, 0.3, 1.5, 6.0], 2)
+    th = np.tile([0.4, -0.4], 4)
+    Vsx, Vsy, Vr = s * np.cos(th), s * np.sin(th), 15.0 - s
+    Fz = np.full(s.size, 4000.0)
+    grouped = _wet_march(tp, table, N_STEADY, TOL, args, Vsx, Vsy, Vr, Fz, 293.15, 0.1)
+    for j in range(s.size):
+        one = _wet_march(tp, table, N_STEADY, TOL, args, Vsx[j:j + 1], Vsy[j:j + 1],
+                         Vr[j:j + 1], Fz[j:j + 1], 293.15, 0.1)
+        npt.assert_array_equal(grouped[:, j], one[:, 0])
+
+
 @pytest.fixture(scope="module")
 def three_layers(wet_setup):
     """The small axes at 20 and 30 C with a layer at 0.5 mm between the branch's nodes (the
