@@ -185,7 +185,8 @@ def test_depth_law_is_the_full_models_friction_between_the_layers(wet_setup, rng
     drainage time) is ``(1 - s) mu(0) + s mu(1 mm)`` with ``s = f - kappa f (1 - f)`` to
     rounding (1e-12: the branch's read is exactly quadratic in the depth between its nodes,
     :mod:`lookup.grid.wet`), and on water it bends towards the dry road (kappa > 0: the
-    dry share falls with the adhesion it carries)."""
+    adhesive part w (mu_w1 - mu_w0) is the product of the dry share, falling from 1, and
+    the difference, rising from 0 at depth 0)."""
     from tire_brush.realtime_build import depth_law
 
     tp, _, wet, _, wt = wet_setup

@@ -88,11 +88,12 @@ def depth_law(params: Any, wet: Any, depths: Any, ax: dict[str, np.ndarray],
     frictions ``mu_w0``, ``mu_w1`` at either share), so its friction
     ``(1 - w) mu_w0 + w mu_w1`` is quadratic in the fraction ``f`` of the way between two
     depths, ``mu(f) = (1 - s) mu(0) + s mu(1)`` with ``s = f - kappa f (1 - f)``; on water
-    it stays above the chord (``kappa > 0``: the dry share falls as the adhesion it carries
-    does). The patch's force is a nonlinear function of the friction, but between two
-    layers of one node it follows the friction far more closely than the depth (the
-    sliding zone's force is the friction's; the adhering zone's does not depend on it): the
-    table reads the layers with the weights ``1 - s`` and ``s``.
+    it stays above the chord (``kappa > 0``: the adhesive part ``w (mu_w1 - mu_w0)`` is the
+    product of the dry share, falling from 1, and the difference, rising from 0 at depth 0
+    where both are the dry friction). The patch's force is a nonlinear function of the
+    friction, but between two layers of one node it follows the friction far more closely
+    than the depth (the sliding zone's force is the friction's; the adhering zone's does
+    not depend on it): the table reads the layers with the weights ``1 - s`` and ``s``.
 
     ``kappa`` is measured on the friction where the node's patch slides: at its slip speed
     ``|V|`` (clamped to the branch's first node), its tread temperature, the mean pressure
