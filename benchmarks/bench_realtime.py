@@ -30,7 +30,10 @@ the patch table is built from its steady march, cached by its hash):
   friction it reads there (the branch at the depth and the point's drainage time,
   :mod:`tire_brush.wet_friction`); one ABS stop at 1 mm through both fidelities of one
   native build, and the wet-grip test's stop (90 -> 20 km/h); and the core's cost per step
-  at 0.5 mm (two depth layers read) and 1 mm.
+  at 0.5 mm (two depth layers read) and 1 mm. Its parts alone: ``wet-steady`` (at the depths
+  of ``--wet-depths``, e.g. ``0.25,0.5,0.75`` between the layers), ``wet-cost``,
+  ``wet-stops``; ``--linear-depth`` reads the table linearly between its layers (its depth
+  law dropped, for comparison).
 """
 
 from __future__ import annotations
@@ -449,6 +452,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--grid", default="default")
     ap.add_argument("--sections", default="steady,steps,lane,abs,cost")
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--wet-depths", default="0,0.5,1",
+                    help="water depths [mm] of the wet section's steady rows (sections "
+                         "wet, or wet-steady, wet-cost and wet-stops for those parts alone)")
+    ap.add_argument("--linear-depth", action="store_true",
+                    help="read the wet table linearly between its layers (its depth law "
+                         "dropped: the chord, for comparison)")
     args = ap.parse_args(argv)
     sections = set(args.sections.split(","))
     tp, grid = load_tire(args.tire), load_grid(args.grid)
@@ -513,20 +522,31 @@ def main(argv: list[str] | None = None) -> int:
             print(f"  fidelity {fid}: one tire {one['doStep_median_us']:8.2f} us, four tires "
                   f"{four['doStep_median_us']:8.2f} us each, real-time factor of four "
                   f"{four['real_time_factor']:.1f}")
-    if "wet" in sections:
+    wet_parts = {"wet-steady", "wet-cost", "wet-stops"} if "wet" in sections else \
+        sections & {"wet-steady", "wet-cost", "wet-stops"}
+    if wet_parts:
         from lookup.grid.store import resolve_grid_path
         from lookup.grid.wet import load_wet
 
         wet = load_wet(resolve_grid_path(args.grid))
         t0 = time.perf_counter()
         wtable, wpath = cached_patch_table(tp, grid, processes=2, wet=wet)
+        if args.linear_depth:
+            import dataclasses
+
+            wtable = dataclasses.replace(wtable, depth_law=None)
+            wpath = Path(tempfile.mkdtemp()) / "patch-linear.bin"
+            wpath.write_bytes(wtable.to_bytes())
         res["wet_table"] = {"seconds": time.perf_counter() - t0,
                             "MB": wpath.stat().st_size / 1e6,
                             "shape": list(wtable.values.shape)}
         print(f"\nwet patch table: {res['wet_table']['MB']:.1f} MB, shape "
               f"{tuple(wtable.values.shape)} (water depths {wtable.depth.tolist()} m), "
               f"{res['wet_table']['seconds']:.1f} s (cached: {wpath})")
-        ws = wet_steady(tp, grid, wet, wtable)
+        ws = {"rows": []}
+        if "wet-steady" in wet_parts:
+            ws = wet_steady(tp, grid, wet, wtable,
+                            depths=[1e-3 * float(x) for x in args.wet_depths.split(",")])
         res["wet_steady"] = ws
         print("\nsteady on water, 20 C, 4 kN: real-time - full, Fx and Fy over Fz, Mz over "
               "its peak")
@@ -546,24 +566,27 @@ def main(argv: list[str] | None = None) -> int:
                   f"{max(abs(r['dFy']) for r in sel):.4f}, max |dMz| "
                   f"{max(abs(r['dMz']) for r in sel):.4f}; within all targets "
                   f"{ok} of {len(sel)}")
-        res["wet_core"] = core_costs(tp, grid, wpath, cases=WET_COST_CASES, wet=wet)
+        if "wet-cost" in wet_parts:
+            res["wet_core"] = core_costs(tp, grid, wpath, cases=WET_COST_CASES, wet=wet)
         print("\nthe core alone per 1 ms step on water (callgrind instructions, target 40000)")
-        for r in res["wet_core"]:
+        for r in res.get("wet_core", []):
             ins = f"{r['instructions']:10.0f}" if "instructions" in r else "  (no valgrind)"
             print(f"  {r['case']:40s} {r['fidelity']:8s} {r['median_us']:9.2f} us {ins}")
-        res["wet_abs"] = wet_abs_stop(args.tire, args.grid)
-        r = res["wet_abs"]
-        print(f"\nABS stop on {r['water_mm']:.0f} mm of water at {r['T']:.0f} C through the "
-              f"native FMU: full {r['distance_0']:.2f} m ({r['wall_s_0']:.0f} s), real-time "
-              f"{r['distance_1']:.2f} m ({r['wall_s_1']:.1f} s): {100 * r['diff_rel']:+.2f} % "
-              f"(target 2 %)")
-        res["wet_grip"] = wet_grip_stops(args.tire)
-        r = res["wet_grip"]
-        print(f"the wet-grip test's ABS stop (90 -> 20 km/h, {r['water_mm']:.0f} mm, "
-              f"{r['T']:.0f} C) through the native FMU: 80 -> 20 km/h in "
-              f"{r['distance_0']:.2f} m (BFC {r['bfc_0']:.3f}, {r['wall_s_0']:.0f} s) full, "
-              f"{r['distance_1']:.2f} m (BFC {r['bfc_1']:.3f}, {r['wall_s_1']:.1f} s) "
-              f"real-time: {100 * r['diff_rel']:+.2f} % (target 2 %)")
+        if "wet-stops" in wet_parts:
+            res["wet_abs"] = wet_abs_stop(args.tire, args.grid)
+            r = res["wet_abs"]
+            print(f"\nABS stop on {r['water_mm']:.0f} mm of water at {r['T']:.0f} C through "
+                  f"the native FMU: full {r['distance_0']:.2f} m ({r['wall_s_0']:.0f} s), "
+                  f"real-time {r['distance_1']:.2f} m ({r['wall_s_1']:.1f} s): "
+                  f"{100 * r['diff_rel']:+.2f} % (target 2 %)")
+            res["wet_grip"] = wet_grip_stops(args.tire)
+            r = res["wet_grip"]
+            print(f"the wet-grip test's ABS stop (90 -> 20 km/h, {r['water_mm']:.0f} mm, "
+                  f"{r['T']:.0f} C) through the native FMU: 80 -> 20 km/h in "
+                  f"{r['distance_0']:.2f} m (BFC {r['bfc_0']:.3f}, {r['wall_s_0']:.0f} s) "
+                  f"full, {r['distance_1']:.2f} m (BFC {r['bfc_1']:.3f}, "
+                  f"{r['wall_s_1']:.1f} s) real-time: {100 * r['diff_rel']:+.2f} % "
+                  f"(target 2 %)")
     if args.json:
         print(json.dumps(res, indent=1, default=float))
     return 0

@@ -72,12 +72,17 @@ int main(int argc, char **argv) {
             nn *= (size_t)d[k];
         }
         size_t n0 = (size_t)d[0] * d[1] * d[2] * d[3] * 2;
-        size_t m = nax + (size_t)d[2] + (size_t)nd * (n0 + TF_PATCH_NV * nn);
+        int law = magic[15] == 2 && rsv == 1;  /* the depth law follows the values */
+        size_t m = nax + (size_t)d[2] + (size_t)nd * (n0 + TF_PATCH_NV * nn) +
+                   (law ? (size_t)(nd - 1) * nn : 0);
         double *a = malloc(sizeof(double) * m);
         if (!a || fread(a, sizeof(double), m, g) != m) return 2;
         fclose(g);
         pt = tf_patch_new_wet(d, nd, depth, a, a + nax, a + nax + d[2],
                               a + nax + d[2] + (size_t)nd * n0);
+        if (pt && law &&
+            tf_patch_set_depth_law(pt, a + nax + d[2] + (size_t)nd * (n0 + TF_PATCH_NV * nn)))
+            return 3;
         free(a);
         if (!pt) return 3;
     }

@@ -241,9 +241,15 @@ def test_axis_names_cover_the_table(setup):
 #: Axes of the agreement checks: the default resolution around 20 C (two temperature nodes, no
 #: camber layer beyond the one the table needs), a table of ~8000 marches.
 def _agreement_table(tp, grid):
+    """The default table's nodes about the points the agreement test reads (20 C, 4 kN, 20 m/s
+    braking at most to kappa -0.5: loads 3 and 4.5 kN, speeds |V| + |V_r| 4 to 35 m/s,
+    every direction and slip share): each node's march does not depend on the others, and a
+    read uses its cell's corners only, so these reads are the default table's, at a fifth of
+    its build."""
     from tire_brush.realtime import LOAD_NODES, RHO_NODES, SPEED_NODES, THETA_NODES
-    axes = {"gamma": [0.0, 0.1], "T": [293.15, 303.15], "Fz": list(LOAD_NODES),
-            "log10_v": np.log10(SPEED_NODES).tolist(), "theta": list(THETA_NODES),
+    assert {3000.0, 4500.0} <= set(LOAD_NODES) and {4.0, 10.0, 20.0, 35.0} <= set(SPEED_NODES)
+    axes = {"gamma": [0.0, 0.1], "T": [293.15, 303.15], "Fz": [3000.0, 4500.0],
+            "log10_v": np.log10([4.0, 10.0, 20.0, 35.0]).tolist(), "theta": list(THETA_NODES),
             "rho": list(RHO_NODES)}
     return build_patch_table(tp, grid, axes=axes, processes=2)
 

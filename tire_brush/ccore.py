@@ -203,6 +203,7 @@ def _declare(lib: ctypes.CDLL) -> None:
                                      ctypes.c_double, dp]),
         "tf_patch_new": (vp, [ctypes.POINTER(ctypes.c_int), dp, dp, dp, dp]),
         "tf_patch_free": (None, [vp]),
+        "tf_patch_set_depth_law": (ctypes.c_int, [vp, dp]),
         "tf_patch_eval": (ctypes.c_int, [vp] + [ctypes.c_double] * 6 + [dp]),
         "tf_patch_new_wet": (vp, [ctypes.POINTER(ctypes.c_int), ctypes.c_int] + [dp] * 5),
         "tf_patch_eval_wet": (ctypes.c_int, [vp] + [ctypes.c_double] * 7 + [dp]),
@@ -348,6 +349,12 @@ class CorePatch:
                                                  _ptr(f0), _ptr(vals))
         if not self.handle:
             raise CoreError("the tire core refused the patch table")
+        if table.depth_law is not None:
+            law = np.ascontiguousarray(table.depth_law, dtype=float)
+            if self._lib.tf_patch_set_depth_law(self.handle, _ptr(law)) != 0:
+                self._lib.tf_patch_free(self.handle)
+                self.handle = None
+                raise CoreError("the tire core refused the patch table's depth law")
         self._out = np.zeros(PATCH_NOUT)
 
     def eval(self, Vx: float, Vy: float, Vr: float, Fz: float, T: float,

@@ -47,7 +47,8 @@ MF-Swift, FTire's real-time mode). This module is that reduced model of the same
 * **Water.** A table built on a grid with a wet branch has a layer per water depth (depth 0
   the dry road's), each the steady march on the wet friction the full model reads at its
   nodes (:func:`tire_brush.realtime_build.build_patch_table`); the water depth is read
-  linearly between the two layers about it, clamped to the layers' depths.
+  between the two layers about it by the full model's depth law of the friction
+  (:attr:`PatchTable.depth_law`), clamped to the layers' depths.
 
 This file is the readable reference of ``tire_brush/csrc/tirert.c``, operation for operation;
 the tests pin the two together. It imports numpy and the standard library only at module level
@@ -131,6 +132,17 @@ class PatchTable:
         default: that one layer). With more than one layer ``f0`` and ``values`` carry a
         leading axis over them: each layer the patch on the grid's wet branch at that depth
         (:func:`tire_brush.realtime_build.build_patch_table`, docs/realtime.md).
+    depth_law : numpy.ndarray or None
+        Shape ``(n_depth - 1, n_gamma, n_T, n_Fz, n_v, n_theta, n_rho)``: the curvature
+        ``kappa`` in [-1, 1] of the full model's depth law between each two neighbouring
+        layers at each node: at the fraction ``f`` of the way from one layer's depth to the
+        next the full model's friction has moved the share ``s = f - kappa f (1 - f)`` of
+        the way between the two layers' (its wet branch is read as the product of two
+        linear interpolations in the depth, so the friction is quadratic in ``f``:
+        :mod:`lookup.grid.wet`), and the table reads the layers with the weights ``1 - s``
+        and ``s`` (the force follows the friction between two layers of one node far more
+        closely than it follows the depth; docs/realtime.md). None: the weights ``1 - f``
+        and ``f``.
     """
 
     gamma: np.ndarray
@@ -145,6 +157,7 @@ class PatchTable:
     key: str = ""
     meta: dict = field(default_factory=dict, compare=False)
     depth: np.ndarray = field(default_factory=lambda: np.zeros(1))
+    depth_law: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         axes = self.axes()
@@ -178,6 +191,13 @@ class PatchTable:
         if self.values.shape != shape or not np.all(np.isfinite(self.values)):
             raise InputError(f"must be finite with shape {shape}", field="patch_table.values",
                              value=self.values.shape)
+        if self.depth_law is not None:
+            k = np.asarray(self.depth_law, float)
+            object.__setattr__(self, "depth_law", k)
+            sk = (d.size - 1, *shape[len(lead):-1])
+            if d.size < 2 or k.shape != sk or not np.all(np.abs(k) <= 1.0):
+                raise InputError(f"must lie in [-1, 1] with shape {sk} (a table with water "
+                                 f"layers)", field="patch_table.depth_law", value=k.shape)
 
     def axes(self) -> tuple[np.ndarray, ...]:
         """The axes in :data:`AXIS_NAMES` order."""
@@ -190,11 +210,14 @@ class PatchTable:
         (little-endian int32), the axes, ``q``, ``f0`` and the values (little-endian doubles)
         and the FNV-1a 64 hash of all that (little-endian uint64). A table with water-depth
         layers (format 2): the magic ``TIREFRIC-PATCH\\0\\2``, the number of layers, the six
-        axis lengths and a reserved 0 (int32), the depths, then as format 1 with ``f0`` and
-        the values of every layer."""
+        axis lengths and a flag (int32: 1 when the depth law follows the values, else 0), the
+        depths, then as format 1 with ``f0`` and the values of every layer, then the depth
+        law (:attr:`depth_law`) when flagged."""
+        law = self.depth_law is not None
         if self.depth.size > 1:
             head = b"TIREFRIC-PATCH\0\2" + struct.pack("<8i", self.depth.size,
-                                                        *(a.size for a in self.axes()), 0)
+                                                        *(a.size for a in self.axes()),
+                                                        int(law))
             lead: tuple[np.ndarray, ...] = (self.depth,)
         else:
             head = b"TIREFRIC-PATCH\0\0" + struct.pack("<6i", *(a.size for a in self.axes()))
@@ -202,6 +225,8 @@ class PatchTable:
         body = b"".join(np.ascontiguousarray(a, "<f8").tobytes()
                         for a in (*lead, *self.axes(), self.q, self.f0))
         data = head + body + np.ascontiguousarray(self.values, "<f8").tobytes()
+        if law:
+            data += np.ascontiguousarray(self.depth_law, "<f8").tobytes()
         return data + struct.pack("<Q", fnv1a64(data))
 
     @classmethod
@@ -209,8 +234,9 @@ class PatchTable:
         """Read :meth:`to_bytes`' formats, the dry one (1) and the one with water-depth layers
         (2) (``verify=False`` skips the checksum, which takes a few seconds in Python: for a
         file whose sha256 was checked already)."""
+        law = 0
         if len(data) >= 48 and data[:16] == b"TIREFRIC-PATCH\0\2":
-            nd, *nl, _ = struct.unpack("<8i", data[16:48])
+            nd, *nl, law = struct.unpack("<8i", data[16:48])
             start = 48
         elif len(data) >= 40 and data[:16] == b"TIREFRIC-PATCH\0\0":
             nd, nl = 1, list(struct.unpack("<6i", data[16:40]))
@@ -219,12 +245,14 @@ class PatchTable:
             raise InputError("not a patch table (format 1 or 2)", field="patch_table",
                              value=len(data))
         n = tuple(nl)
-        if min(n) < 2 or nd < 1:
-            raise InputError("axis lengths must be >= 2 and layers >= 1", field="patch_table",
-                             value=(nd, n))
+        if min(n) < 2 or nd < 1 or law not in (0, 1) or (law and nd < 2):
+            raise InputError("axis lengths must be >= 2, layers >= 1 and the depth law's "
+                             "flag 0 or 1 (1 only with layers)", field="patch_table",
+                             value=(nd, n, law))
         n0 = n[0] * n[1] * n[2] * n[3] * 2
         total = (nd if start == 48 else 0) + sum(n) + n[2] + nd * (n0 + int(np.prod(n)) *
                                                                    N_VALUES)
+        total += law * (nd - 1) * int(np.prod(n))
         if len(data) != start + 8 + 8 * total or \
                 (verify and struct.unpack("<Q", data[-8:])[0] != fnv1a64(data[:-8])):
             raise InputError("wrong size for its axes or checksum mismatch (corrupt file)",
@@ -245,8 +273,11 @@ class PatchTable:
         off += n[2]
         f0 = arr[off:off + nd * n0].reshape((*lead, *n[:4], 2)).copy()
         off += nd * n0
-        vals = arr[off:].reshape((*lead, *n, N_VALUES)).copy()
-        return cls(*axes, q=q, f0=f0, values=vals, key=key, depth=depth)
+        nval = nd * int(np.prod(n)) * N_VALUES
+        vals = arr[off:off + nval].reshape((*lead, *n, N_VALUES)).copy()
+        off += nval
+        dl = arr[off:].reshape((nd - 1, *n)).copy() if law else None
+        return cls(*axes, q=q, f0=f0, values=vals, key=key, depth=depth, depth_law=dl)
 
 
 # ---------------------------------------------------------------------------- evaluation
@@ -272,8 +303,9 @@ class PatchEval:
 
     Call with the patch slip velocity ``(Vx, Vy)`` [m/s], the rolling speed ``V_r`` [m/s], the
     load ``Fz`` [N], temperature ``T`` [K], inclination ``gamma`` [rad] and the water depth
-    ``d_water`` [m] (default 0, the dry road; linear between the table's two layers about it,
-    clamped to their depths as the full model clamps the wet branch); returns
+    ``d_water`` [m] (default 0, the dry road; between the table's two layers about it by
+    their depth law, :attr:`PatchTable.depth_law`, or linearly without one; clamped to their
+    depths as the full model clamps the wet branch); returns
     ``(F, J, extra, flags)``: ``F = [Fx, Fy, Mz, M_belt]``, ``J`` their derivatives by ``Vx``
     and ``Vy`` (row-major 4 x 2), ``extra = [mu_slide, sliding_fraction, dT_flash_max, power
     [W]]``, and 2 when ``T`` lies outside the table's temperature axis.
@@ -288,6 +320,7 @@ class PatchEval:
         self.q = table.q.tolist()
         self.f0 = table.f0.ravel().tolist()
         self.depth = table.depth.tolist()
+        self.law = None if table.depth_law is None else table.depth_law.ravel().tolist()
         self.lval = int(np.prod(self.n)) * N_VALUES
         self.lf0 = self.n[0] * self.n[1] * self.n[2] * self.n[3] * 2
 
@@ -333,32 +366,55 @@ class PatchEval:
         # the outer (gamma, T, Fz, v) cell's first node in the zero-slip force array
         ob = ((loc[0][0] * n[1] + loc[1][0]) * n[2] + loc[2][0]) * n[3] + loc[3][0]
         g0x = g0y = 0.0
+        # the 16 outer corners (gamma, T, Fz, v) with a weight: their weights and offsets from
+        # the cell's first node, each corner with its 2 x 2 (theta, rho) cell
+        cw: list[float] = []
+        co: list[int] = []
+        for c in range(16):
+            w = 1.0
+            off = 0
+            for k in range(4):
+                bit = (c >> (3 - k)) & 1
+                f = loc[k][1]
+                w *= f if bit else 1.0 - f
+                off += bit * strides[k]
+            if w == 0.0:
+                continue
+            cw.append(w)
+            co.append(off)
+        ft, fr = loc[4][1], loc[5][1]
         # the water depth: the two layers about it, clamped to the layers' depths (a dry-only
         # table: the one layer)
         il, fl = 0, 0.0
         if len(self.depth) > 1:
             il, fl, _ = _locate(self.depth, d_water)
+            if self.law is not None and fl > 0.0 and fl < 1.0:
+                # the full model's depth law between the two layers (PatchTable.depth_law):
+                # its curvature at the point, multilinear over the node cell as the values
+                s4, s5 = strides[4] // N_VALUES, strides[5] // N_VALUES
+                kb = il * (self.lval // N_VALUES) + base // N_VALUES
+                kap = 0.0
+                for i in range(len(cw)):
+                    k00 = kb + co[i] // N_VALUES
+                    k10 = k00 + s4
+                    a00, a01 = self.law[k00], self.law[k00 + s5]
+                    a10, a11 = self.law[k10], self.law[k10 + s5]
+                    lo = a00 + fr * (a01 - a00)
+                    hi = a10 + fr * (a11 - a10)
+                    kap += cw[i] * (lo + ft * (hi - lo))
+                fl = fl - kap * (fl * (1.0 - fl))
         for lay in range(2):
             wl = fl if lay else 1.0 - fl
             if wl == 0.0:
                 continue
             lbase = base + (il + lay) * self.lval
             lob = ob + (il + lay) * (self.lf0 // 2)
-            # the 16 outer corners (gamma, T, Fz, v), each with its 2 x 2 (theta, rho) cell
-            for c in range(16):
-                w = wl
-                off = lbase
-                for k in range(4):
-                    bit = (c >> (3 - k)) & 1
-                    f = loc[k][1]
-                    w *= f if bit else 1.0 - f
-                    off += bit * strides[k]
-                if w == 0.0:
-                    continue
-                o0 = 2 * (lob + (off - lbase) // strides[3])
+            for i in range(len(cw)):
+                w = wl * cw[i]
+                off = lbase + co[i]
+                o0 = 2 * (lob + co[i] // strides[3])
                 g0x += w * self.f0[o0]
                 g0y += w * self.f0[o0 + 1]
-                ft, fr = loc[4][1], loc[5][1]
                 p00 = off
                 p01 = off + strides[5]
                 p10 = off + strides[4]

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import ctypes
 import hashlib
+import itertools
 import math
 import os
 import tempfile
@@ -62,7 +63,7 @@ def table_key(params: Any, table: Any, axes: dict[str, np.ndarray], n_cells: int
     h.update(repr((n_cells, tol, "rho_n = rho / (rho + q (1 - rho))", "f0")).encode())
     if wet is not None:
         h.update(repr(("wet", str(wet.meta.get("hash", "")), float(drain_scale),
-                       "U = V_r + V_sx / 2")).encode())
+                       "U = V_r + V_sx / 2", DEPTH_LAW)).encode())
         for name in ("water_depth", "log10_t_drain"):
             h.update(np.ascontiguousarray(wet.axes[name], float).tobytes())
         for name in sorted(wet.variables):
@@ -70,6 +71,70 @@ def table_key(params: Any, table: Any, axes: dict[str, np.ndarray], n_cells: int
         if depths is not None:
             h.update(np.ascontiguousarray(depths, float).tobytes())
     return h.hexdigest()
+
+
+#: What the depth law between two layers is measured on (:func:`depth_law`; part of the key).
+DEPTH_LAW = ("s = f - kappa f (1 - f); friction (cold + hot) / 2 at the slip speed, "
+             "Fz / (2 a b), the node's drainage time, mid-depth")
+
+
+def depth_law(params: Any, wet: Any, depths: Any, ax: dict[str, np.ndarray],
+              drain_scale: float = 1.0) -> np.ndarray:
+    """The full model's depth law between neighbouring layers of a patch table, at each node
+    (:attr:`tire_brush.realtime.PatchTable.depth_law`).
+
+    The full model reads the wet branch at a depth between its nodes as the product of two
+    interpolations linear in the depth (:mod:`lookup.grid.wet`: the dry share ``w`` and the
+    frictions ``mu_w0``, ``mu_w1`` at either share), so its friction
+    ``(1 - w) mu_w0 + w mu_w1`` is quadratic in the fraction ``f`` of the way between two
+    depths, ``mu(f) = (1 - s) mu(0) + s mu(1)`` with ``s = f - kappa f (1 - f)``; on water
+    it stays above the chord (``kappa > 0``: the adhesive part ``w (mu_w1 - mu_w0)`` is the
+    product of the dry share, falling from 1, and the difference, rising from 0 at depth 0
+    where both are the dry friction). The patch's force is a nonlinear function of the
+    friction, but between two layers of one node it follows the friction far more closely
+    than the depth (the sliding zone's force is the friction's; the adhering zone's does
+    not depend on it): the table reads the layers with the weights ``1 - s`` and ``s``.
+
+    ``kappa`` is measured on the friction where the node's patch slides: at its slip speed
+    ``|V|`` (clamped to the branch's first node), its tread temperature, the mean pressure
+    ``Fz / (2 a b)`` and its drainage time (that of the march, :func:`_wet_march`), the
+    mean of the cold and hot branches (eq. (28) blends between them), at the two layers'
+    depths and midway; ``s`` there gives ``kappa = 2 - 4 s``, clamped to [-1, 1] (``s``
+    monotonic in ``f``). Exact for the friction between layers within one cell of the
+    branch's depths; a fit through the midpoint across a node of the branch.
+
+    Returns shape ``(len(depths) - 1, n_gamma, n_T, n_Fz, n_v, n_theta, n_rho)``.
+    """
+    Fz_ax = np.asarray(ax["Fz"], float)
+    TT, F, LV, TH, RN = np.meshgrid(ax["T"], Fz_ax, ax["log10_v"], ax["theta"], ax["rho"],
+                                    indexing="ij")
+    q = np.interp(F, Fz_ax, full_sliding_share(params, Fz_ax))
+    RHO = RN * q / (1.0 - RN * (1.0 - q))          # as _layer
+    vref = 10.0 ** LV
+    s = RHO * vref
+    Vr = vref - s
+    U = 0.5 * (np.abs(Vr + s * np.cos(TH)) + np.abs(Vr))
+    size = np.array([params.patch.size(float(f)) for f in Fz_ax])
+    ia = np.searchsorted(Fz_ax, F)
+    a, b = size[ia, 0], size[ia, 1]
+    t = drain_scale * (2.0 * a / U)
+    p = F / (2.0 * a * b)
+    v = np.maximum(s, 10.0 ** float(wet.axes["log10_v"][0]))
+
+    def mu(d: float) -> np.ndarray:
+        r = wet.interpolate(v, TT, p, d, t)
+        return 0.5 * (r["mu_wet_cold"] + r["mu_wet_hot"])
+
+    out = []
+    for d0, d1 in itertools.pairwise(depths):
+        m0, m1, mm = mu(float(d0)), mu(float(d1)), mu(0.5 * (float(d0) + float(d1)))
+        den = m1 - m0
+        ok = np.abs(den) > 1e-9
+        sm = np.where(ok, (mm - m0) / np.where(ok, den, 1.0), 0.5)
+        out.append(np.clip(2.0 - 4.0 * sm, -1.0, 1.0))
+    k = np.stack(out)
+    return np.ascontiguousarray(np.broadcast_to(k[:, None], (k.shape[0], len(ax["gamma"]),
+                                                              *k.shape[1:])))
 
 
 def _wet_layer_arrays(table: Any, wet: Any, d: float) -> tuple[np.ndarray, ...]:
@@ -125,31 +190,50 @@ def _wet_march(params: Any, table: Any, n_cells: int, tol: float, wet: tuple, Vs
                                       Tax.size - 2)
     r = slice(iT, iT + 2)
     c0, c1, h0, h1, wd = c0[:, r], c1[:, r], h0[:, r], h1[:, r], wd[:, :, r]
-    T_rows = Tax[r]
+    T_rows = np.ascontiguousarray(Tax[r])
     P = ccore.core_params(params, n_elements=n_cells, dt_internal=1.0, tol=tol,
                           v_floor=V_FLOOR, thermal=False, rigid=True, massless=False)
     lib = ccore.load()
-    out = np.zeros((Vsx.size, ccore.STEADY_OUT))
-    o = np.zeros(ccore.STEADY_OUT)
-    vals = np.array(table.values[:, r], float)
-    for j in range(Vsx.size):
-        a, _ = params.patch.size(float(Fz[j]))
+    n = Vsx.size
+    # the drainage-time cell of every point, then the points grouped by it: points of one
+    # cell and fraction read the same friction (e.g. theta and -theta at an inclination,
+    # every direction at zero slip), so one friction table and one call of the march serve
+    # them all; the march of a point does not depend on the others in its call (tf_steady)
+    half = {F: params.patch.size(F)[0] for F in set(Fz.tolist())}
+    cells: dict[tuple[int, float], list[int]] = {}
+    for j in range(n):
+        a = half[float(Fz[j])]
         U = 0.5 * (abs(float(Vr[j] + Vsx[j])) + abs(float(Vr[j])))
         lt = math.log10(drain_scale * (2.0 * a / U)) if U > 0.0 and a > 0.0 else math.inf
-        i, f = _cell(lt_ax, lt)                     # the drainage-time cell
+        cells.setdefault(_cell(lt_ax, lt), []).append(j)
+    pts = np.ascontiguousarray(np.stack([Vsx, Vsy, Vr, Fz, np.full(n, float(g))], axis=1),
+                               dtype=float)
+    out = np.zeros((n, ccore.STEADY_OUT))
+    vals = np.array(table.values[:, r], float)     # C-contiguous: refilled for each cell
+    axes = [np.ascontiguousarray(a, float) for a in (table.log10_v, T_rows, table.log10_p)]
+    nv, nT, npp = (a.size for a in axes)
+    ax_ptrs = [ccore._ptr(a) for a in axes]
+    v_ptr = ccore._ptr(vals)
+    for (i, f), idx in cells.items():
         ws = (1.0 - f) * wd[i] + f * wd[i + 1]
         ws = np.where(ws > 0.0, ws, 0.0)
         ws = np.where(ws > 1.0, 1.0, ws)
         vals[..., 0] = (1.0 - ws) * c0 + ws * c1
         vals[..., 1] = (1.0 - ws) * h0 + ws * h1
-        ct = ccore.CoreTable(table.log10_v, T_rows, table.log10_p, vals, table.inv_s0)
-        pts = np.ascontiguousarray([[Vsx[j], Vsy[j], Vr[j], Fz[j], g]], dtype=float)
-        rc = lib.tf_steady(ctypes.byref(P), ct.handle, n_cells, 1, ccore._ptr(pts), float(T),
-                           1.0, ccore._ptr(o))
+        handle = lib.tf_table_new(nv, nT, npp, *ax_ptrs, v_ptr, float(table.inv_s0))
+        if not handle:
+            raise InputError("the tire core refused the wet friction table", field="wet")
+        q = np.ascontiguousarray(pts[idx])
+        o = np.zeros((len(idx), ccore.STEADY_OUT))
+        try:
+            rc = lib.tf_steady(ctypes.byref(P), handle, n_cells, len(idx), ccore._ptr(q),
+                               float(T), 1.0, ccore._ptr(o))
+        finally:
+            lib.tf_table_free(handle)
         if rc != 0:
             raise InputError("the tire core refused the operating point", field="points",
-                             value=pts.tolist())
-        out[j] = o
+                             value=q.tolist())
+        out[idx] = o
     return out.T.copy()
 
 
@@ -289,8 +373,14 @@ def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None
                   ax["theta"], ax["rho"], *extra) for g in ax["gamma"] for T in ax["T"]]
     if processes > 1:
         import multiprocessing as mp
+        # the costliest layers first (a wet one marches point by point, an inclined one every
+        # direction), so that the workers finish together instead of one waiting on the last
+        order = sorted(range(len(jobs)), key=lambda i: (-len(jobs[i]), -jobs[i][4]))
         with mp.get_context("fork").Pool(processes) as pool:
-            layers = pool.map(_layer, jobs, chunksize=1)
+            done = pool.map(_layer, [jobs[i] for i in order], chunksize=1)
+        layers = [None] * len(jobs)
+        for i, lay in zip(order, done, strict=True):
+            layers[i] = lay
     else:
         layers = [_layer(j) for j in jobs]
     lead = (len(depths), ax["gamma"].size, ax["T"].size)
@@ -302,7 +392,9 @@ def build_patch_table(params: Any, friction: Any, *, axes: dict[str, Any] | None
                       full_sliding_share(params, ax["Fz"]), f0, vals,
                       key=table_key(params, table, ax, n_cells, tol, wet, drain_scale,
                                     None if wet is None else depths),
-                      depth=np.array(depths))
+                      depth=np.array(depths),
+                      depth_law=None if len(depths) < 2 else depth_law(params, wet, depths,
+                                                                        ax, drain_scale))
 
 
 def cache_dir() -> Path:

@@ -22,6 +22,8 @@ struct tf_patch {
     int nd;                        /* water-depth layers (1: the dry road only) */
     double *depth;                 /* their water depths [m], from 0 (the dry road) */
     size_t lval, lf0;              /* doubles per layer in val and f0 */
+    double *law;                   /* the depth law's curvature between neighbouring layers,
+                                    * (nd - 1, gamma, T, Fz, v, theta, rho), or NULL */
 };
 
 tf_patch *tf_patch_new(const int *n, const double *axes, const double *q, const double *f0,
@@ -103,7 +105,21 @@ void tf_patch_free(tf_patch *pt) {
     free(pt->q);
     free(pt->f0);
     free(pt->depth);
+    free(pt->law);
     free(pt);
+}
+
+int tf_patch_set_depth_law(tf_patch *pt, const double *law) {
+    if (!pt || !law || pt->nd < 2) return -1;
+    size_t nn = pt->lval / TF_PATCH_NV, m = nn * (size_t)(pt->nd - 1);
+    for (size_t i = 0; i < m; i++)
+        if (!(fabs(law[i]) <= 1.0)) return -1;
+    double *k = malloc(sizeof(double) * m);
+    if (!k) return -1;
+    memcpy(k, law, sizeof(double) * m);
+    free(pt->law);
+    pt->law = k;
+    return 0;
 }
 
 int tf_patch_layers(const tf_patch *pt) { return pt ? pt->nd : 0; }
@@ -164,6 +180,24 @@ int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, doubl
     size_t ob = (((size_t)li[0] * pt->n[1] + li[1]) * pt->n[2] + li[2]) * pt->n[3] + li[3];
     double g0x = 0.0, g0y = 0.0;
     double ft = lf[4], fr = lf[5];
+    /* the 16 outer corners (gamma, T, Fz, v) with a weight: their weights and offsets from
+     * the cell's first node, each corner with its 2 x 2 (theta, rho) cell */
+    double cw[16];
+    size_t co[16];
+    int nc = 0;
+    for (int c = 0; c < 16; c++) {
+        double w = 1.0;
+        size_t off = 0;
+        for (int k = 0; k < 4; k++) {
+            int bit = (c >> (3 - k)) & 1;
+            double f = lf[k];
+            w *= bit ? f : 1.0 - f;
+            off += (size_t)bit * pt->stride[k];
+        }
+        if (w == 0.0) continue;
+        cw[nc] = w;
+        co[nc++] = off;
+    }
     /* the water depth: the two layers about it, clamped to the layers' depths as the full
      * model clamps the wet branch (a dry-only table: its one layer) */
     int il = 0;
@@ -171,24 +205,32 @@ int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, doubl
     if (pt->nd > 1) {
         double dinv;
         locate_ax(pt->nd, pt->depth, d_water, &il, &fl, &dinv);
+        if (pt->law && fl > 0.0 && fl < 1.0) {
+            /* the full model's depth law between the two layers (tirert.h): its curvature
+             * at the point, multilinear over the node cell as the values */
+            size_t s4 = pt->stride[4] / TF_PATCH_NV, s5 = pt->stride[5] / TF_PATCH_NV;
+            const double *law = pt->law + (size_t)il * (pt->lval / TF_PATCH_NV) +
+                                base / TF_PATCH_NV;
+            double kap = 0.0;
+            for (int i = 0; i < nc; i++) {
+                const double *k00 = law + co[i] / TF_PATCH_NV, *k10 = k00 + s4;
+                double a00 = k00[0], a01 = k00[s5], a10 = k10[0], a11 = k10[s5];
+                double lo = a00 + fr * (a01 - a00);
+                double hi = a10 + fr * (a11 - a10);
+                kap += cw[i] * (lo + ft * (hi - lo));
+            }
+            fl = fl - kap * (fl * (1.0 - fl));
+        }
     }
     for (int l = 0; l < 2; l++) {
         double wl = l ? fl : 1.0 - fl;
         if (wl == 0.0) continue;
         const double *val = pt->val + (size_t)(il + l) * pt->lval;
         const double *f0 = pt->f0 + (size_t)(il + l) * pt->lf0;
-        /* the 16 outer corners (gamma, T, Fz, v), each with its 2 x 2 (theta, rho) cell */
-        for (int c = 0; c < 16; c++) {
-            double w = wl;
-            size_t off = base;
-            for (int k = 0; k < 4; k++) {
-                int bit = (c >> (3 - k)) & 1;
-                double f = lf[k];
-                w *= bit ? f : 1.0 - f;
-                off += (size_t)bit * pt->stride[k];
-            }
-            if (w == 0.0) continue;
-            size_t o0 = 2 * (ob + (off - base) / pt->stride[3]);
+        for (int i = 0; i < nc; i++) {
+            double w = wl * cw[i];
+            size_t off = base + co[i];
+            size_t o0 = 2 * (ob + co[i] / pt->stride[3]);
             g0x += w * f0[o0];
             g0y += w * f0[o0 + 1];
             const double *v00 = val + off, *v01 = v00 + pt->stride[5];

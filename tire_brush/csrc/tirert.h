@@ -43,6 +43,14 @@ TF_API tf_patch *tf_patch_new(const int *n, const double *axes, const double *q,
  * another (tabulated on the wet branch of the grid at each depth, docs/realtime.md). */
 TF_API tf_patch *tf_patch_new_wet(const int *n, int nd, const double *depth, const double *axes,
                                   const double *q, const double *f0, const double *values);
+/* The full model's depth law between neighbouring layers of a table with nd >= 2 layers:
+ * law[(nd - 1) * nodes] (C order, the layer interval outermost, then the axes), the curvature
+ * kappa in [-1, 1] at each node: at the fraction f of the way from a layer's depth to the
+ * next the table reads the two layers with the weights 1 - s and s, s = f - kappa f (1 - f),
+ * the share of the way the full model's friction has moved between them (its wet branch is
+ * the product of two interpolations linear in the depth: docs/realtime.md). Without it the
+ * weights are 1 - f and f. Copies the data; 0, or -1 on bad input. */
+TF_API int tf_patch_set_depth_law(tf_patch *pt, const double *law);
 TF_API void tf_patch_free(tf_patch *pt);
 /* Water-depth layers of a table (1: the dry road only). */
 TF_API int tf_patch_layers(const tf_patch *pt);
@@ -52,8 +60,9 @@ TF_API int tf_patch_layers(const tf_patch *pt);
  * edge), else 0. */
 TF_API int tf_patch_eval(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz,
                          double T, double gamma, double *out);
-/* The same on water of depth d_water [m]: linear between the two layers about it, clamped to
- * the layers' depths (tf_patch_eval reads depth 0, the dry road). */
+/* The same on water of depth d_water [m]: between the two layers about it (linearly, or by
+ * the depth law of tf_patch_set_depth_law), clamped to the layers' depths (tf_patch_eval
+ * reads depth 0, the dry road). */
 TF_API int tf_patch_eval_wet(const tf_patch *pt, double Vx, double Vy, double Vr, double Fz,
                              double T, double gamma, double d_water, double *out);
 

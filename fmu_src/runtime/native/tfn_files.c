@@ -206,8 +206,9 @@ int load_rolling(comp *c, const char *loc) {
  * dry table) the magic "TIREFRIC-PATCH\0\0", six int32 axis lengths, the axes, q at the load
  * nodes, the zero-slip force and the node values as doubles, an FNV-1a 64 trailer; format 2 (a
  * table with water-depth layers) the magic "TIREFRIC-PATCH\0\2", the number of layers, the six
- * lengths and a reserved int32, the depths, then as format 1 with the zero-slip force and the
- * values of every layer. */
+ * lengths and a flag (int32: 1 when the depth law follows), the depths, then as format 1 with
+ * the zero-slip force and the values of every layer, then the depth law between neighbouring
+ * layers ((nd - 1) doubles per node, tf_patch_set_depth_law) when flagged. */
 int load_patch(comp *c, const char *loc) {
     char path[4200];
     if (!TFN_HAS_PATCH) return 0;
@@ -216,12 +217,13 @@ int load_patch(comp *c, const char *loc) {
     unsigned char *b = read_file(c, path, "real-time patch table", &n);
     if (!b) return -1;
     int dims[TF_PATCH_NAX];
-    uint64_t nax = 0, nn = 1, nd = 1, head = 40;
+    uint64_t nax = 0, nn = 1, nd = 1, head = 40, law = 0;
     int ok = n >= 48 && memcmp(b, "TIREFRIC-PATCH\0", 15) == 0 && (b[15] == 0 || b[15] == 2);
     if (ok && b[15] == 2) {
         nd = rd_u32(b + 16);
         head = 48;
-        ok = n >= 56 && nd >= 1 && nd <= 1000;
+        law = rd_u32(b + 44);
+        ok = n >= 56 && nd >= 1 && nd <= 1000 && (law == 0 || (law == 1 && nd >= 2));
     }
     for (int k = 0; ok && k < TF_PATCH_NAX; k++) {
         uint32_t d = rd_u32(b + (head == 48 ? 20 : 16) + 4 * k);
@@ -233,7 +235,8 @@ int load_patch(comp *c, const char *loc) {
     uint64_t n0 = (uint64_t)dims[0] * dims[1] * dims[2] * dims[3] * 2;
     uint64_t nlead = head == 48 ? nd : 0;
     ok = ok && nn < ((uint64_t)1 << 32) &&
-         n == head + 8 + 8 * (nlead + nax + dims[2] + nd * (n0 + TF_PATCH_NV * nn)) &&
+         n == head + 8 + 8 * (nlead + nax + dims[2] + nd * (n0 + TF_PATCH_NV * nn) +
+                              law * (nd - 1) * nn) &&
          fnv1a(b, n - 8) == rd_u64(b + n - 8);
     if (!ok) {
         free(b);
@@ -242,7 +245,8 @@ int load_patch(comp *c, const char *loc) {
               (double)n, (double)nn);
         return -1;
     }
-    size_t m = (size_t)(nlead + nax + dims[2] + nd * (n0 + TF_PATCH_NV * nn));
+    size_t m = (size_t)(nlead + nax + dims[2] + nd * (n0 + TF_PATCH_NV * nn) +
+                        law * (nd - 1) * nn);
     double *a = malloc(sizeof(double) * m);
     if (!a) { free(b); return -1; }
     for (size_t i = 0; i < m; i++) a[i] = rd_f64(b + head + 8 * i);
@@ -252,6 +256,11 @@ int load_patch(comp *c, const char *loc) {
     const double *ax = a + nlead;
     c->patch = tf_patch_new_wet(dims, (int)nd, depth, ax, ax + nax, ax + nax + dims[2],
                                 ax + nax + dims[2] + nd * n0);
+    if (c->patch && law &&
+        tf_patch_set_depth_law(c->patch, ax + nax + dims[2] + nd * (n0 + TF_PATCH_NV * nn))) {
+        tf_patch_free(c->patch);
+        c->patch = NULL;
+    }
     free(a);
     if (!c->patch) {
         logf_(c, fmi2Error, "the tire core refused the real-time patch table %s", path);
