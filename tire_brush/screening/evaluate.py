@@ -22,7 +22,7 @@ For a compound (:mod:`.compounds`) :func:`evaluate_compound`:
    the dry and the wet road with the rule-based ABS and a locked wheel (the steps of
    :func:`tire_brush.braking.study.run_case` without the OCP), at the screening's braking
    resolution (:func:`screen_study`: fewer force-map temperatures, a longer largest step;
-   the maps read one point at a time through
+   the maps read one point at a time by the compiled tire core,
    :meth:`~tire_brush.braking.force_map.ForceMap.point_evaluator`);
 6. the peak braking |Fx/Fz| of the steady brush on the dry road at the peak temperatures
    (:func:`tire_brush.wet_friction.peak_fx_over_fz`).
@@ -222,7 +222,7 @@ def stops(study, source, case, compound, params) -> dict[str, float]:
     v_line = np.geomspace(study.v_stop, study.v0, 25)
     sm_line = optimal_slip(fmap, v_line, [car.Fz], [case.T_K], label=case.label)
     schedule = abs_slip_schedule(sm_line) if study.abs_slip_from_map else None
-    point = fmap.point_evaluator()      # the map's spline, one point per call (cheaper)
+    point = fmap.point_evaluator()      # the map's spline, one point per call, in C
     locked = simulate_braking(car, point, LockedWheel(car.brake_torque_rate_max,
                                                      study.abs_params.control_period),
                               study.v0, study.v_stop, case.T_K, settings=study.simulation,
