@@ -91,7 +91,8 @@ OUTSIDE_WARNING_SHARE = 0.05
 #: Keys of an evaluation that the flash-temperature iteration carries along.
 #: Heat kernels shared by the engines of one process (PerssonFriction._kernel), keyed by
 #: everything a kernel is computed from; at most this many (a kernel is (nq+1)^2 doubles,
-#: ~30 kB at the default settings: a few MB; a grid's slip-speed axis has ~30-60 nodes).
+#: ~40 kB at the default settings: at most ~11 MB; a grid's slip-speed axis has ~30-60
+#: nodes).
 _SHARED_KERNELS: dict[tuple, np.ndarray] = {}
 _SHARED_KERNELS_MAX = 256
 
