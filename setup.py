@@ -1,4 +1,5 @@
-"""Build of the compiled tire core (tire_brush/csrc/tirecore.c, tirert.c) at install.
+"""Build of the compiled tire core (tire_brush/csrc/tirecore.c, tirert.c,
+bspline.c) at install.
 
 The core is a plain C99 library loaded with ctypes (tire_brush/ccore.py); setuptools builds
 it as an extension file so that a wheel carries it for its platform. All other metadata is in
@@ -29,7 +30,8 @@ else:
     cflags = core_cflags()
 
 setup(ext_modules=[Extension("tire_brush._tirecore", ["tire_brush/csrc/tirecore.c",
-                                                     "tire_brush/csrc/tirert.c"],
+                                                     "tire_brush/csrc/tirert.c",
+                                                     "tire_brush/csrc/bspline.c"],
                              define_macros=[("TF_PYTHON_EXTENSION", "1")],
                              extra_compile_args=cflags,
                              libraries=[] if sys.platform == "win32" else ["m"])])

@@ -89,6 +89,13 @@ CONTACT_AREA_LAWS: tuple[str, ...] = ("persson", "rescaled_kappa")
 OUTSIDE_WARNING_SHARE = 0.05
 
 #: Keys of an evaluation that the flash-temperature iteration carries along.
+#: Heat kernels shared by the engines of one process (PerssonFriction._kernel), keyed by
+#: everything a kernel is computed from; at most this many (a kernel is (nq+1)^2 doubles,
+#: ~40 kB at the default settings: at most ~11 MB; a grid's slip-speed axis has ~30-60
+#: nodes).
+_SHARED_KERNELS: dict[tuple, np.ndarray] = {}
+_SHARED_KERNELS_MAX = 256
+
 _PARTS = ("mu_visc", "mu_cont", "area", "dmu_w", "P_m")
 #: Keys of the extrapolation accounting (module docstring).
 OUTSIDE_KEYS = ("outside", "outside_visc", "outside_area")
@@ -443,14 +450,35 @@ class PerssonFriction:
         return out
 
     def _kernel(self, v: float) -> np.ndarray:
-        """Heat kernel with lateral factor for speed v (cached), shape (nq+1, nq+1)."""
+        """Heat kernel with lateral factor for speed v (cached), shape (nq+1, nq+1).
+
+        Cached per engine and, by everything it is computed from (the wavenumbers, the
+        macro-contact size, the rubber's diffusivity and heat capacity, the image strength,
+        the quadrature and v), per process (:data:`_SHARED_KERNELS`): the dry and the wet
+        engine of one road, and compounds that differ in anything but their thermal data,
+        share it. The same function of the same numbers: the same array bit for bit.
+        """
         key = float(v)
         K = self._kernels.get(key)
         if K is None:
-            t_c = self.D / key
-            K = heat_kernel(self.z_eval, self.a_src, t_c, self.D_th, self.rho_c, self.R_image,
-                            HeatKernelSettings(self.settings.tau_per_decade))
-            K = K * lateral_factor(key * self.D / self.D_th)
+            ident = self.__dict__.get("_kernel_ident")
+            if ident is None:
+                import hashlib
+
+                ident = (hashlib.sha256(np.ascontiguousarray(self.q, float).tobytes())
+                         .hexdigest(), float(self.D), float(self.D_th), float(self.rho_c),
+                         float(self.R_image), int(self.settings.tau_per_decade))
+                self._kernel_ident = ident
+            K = _SHARED_KERNELS.get((ident, key))
+            if K is None:
+                t_c = self.D / key
+                K = heat_kernel(self.z_eval, self.a_src, t_c, self.D_th, self.rho_c,
+                                self.R_image, HeatKernelSettings(self.settings.tau_per_decade))
+                K = K * lateral_factor(key * self.D / self.D_th)
+                K.setflags(write=False)
+                if len(_SHARED_KERNELS) >= _SHARED_KERNELS_MAX:
+                    _SHARED_KERNELS.pop(next(iter(_SHARED_KERNELS)))    # the oldest
+                _SHARED_KERNELS[(ident, key)] = K
             if len(self._kernels) > 256:
                 self._kernels.clear()
             self._kernels[key] = K

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -143,13 +145,14 @@ def test_fixed_inputs_slice_the_spline_exactly(fmap):
     # a two-node axis (degree 1) next to cubic ones
     {**AXES, "Fz": np.array([4000.0]), "T_K": np.array([293.15, 313.15])},
 ])
-def test_point_evaluator_is_the_spline(axes):
-    """PointEvaluator (de Boor's recurrence at one point) against the map's own evaluation
-    (scipy NdBSpline), inside the axes, beyond them (clamped) and on knots and nodes. The
-    same sum in another order: 1e-12 absolute on values of order 1 (coefficient products of
-    order 1, 4^4 terms at most, double rounding ~1e-16 each)."""
+@pytest.mark.parametrize("backend", ["python", "c"])
+def test_point_evaluator_is_the_spline(axes, backend):
+    """PointEvaluator (de Boor's recurrence at one point) and its compiled twin against the
+    map's own evaluation (scipy NdBSpline), inside the axes, beyond them (clamped) and on
+    knots and nodes. The same sum in another order: 1e-12 absolute on values of order 1
+    (coefficient products of order 1, 4^4 terms at most, double rounding ~1e-16 each)."""
     fm = ForceMap.build(smooth, **axes)
-    point = fm.point_evaluator()
+    point = fm.point_evaluator(backend)
     rng = np.random.default_rng(4)
     pts = [tuple(rng.uniform(a[0] - 0.1 * (a[-1] - a[0]) - 1.0,
                              a[-1] + 0.1 * (a[-1] - a[0]) + 1.0) for a in axes.values())
@@ -158,3 +161,33 @@ def test_point_evaluator_is_the_spline(axes):
     for p in pts:
         p = (p[0], max(p[1], 1e-3), p[2], p[3])         # speed > 0 (log axis)
         assert point(*p) == pytest.approx(float(fm(*p)), abs=1e-12, rel=0.0)
+
+
+@pytest.mark.parametrize("axes", [
+    AXES,
+    {**AXES, "Fz": np.array([4000.0]), "T_K": np.array([293.15])},
+    {**AXES, "Fz": np.array([4000.0]), "T_K": np.array([293.15, 313.15])},
+])
+def test_compiled_point_evaluator_is_the_python_one(axes):
+    """The compiled point reader (tire_brush/csrc/bspline.c) against its readable reference,
+    operation for operation except the contraction's order of summation (numpy's matrix
+    product in the reference): equal to 4 ulps of values of order 1 (1e-15 absolute: a
+    sum of at most 4^4 products, each rounded once; the recurrence is the same), and NaN
+    in, NaN out. A wrong knot span, basis or stride moves values by ~1e-3 and more."""
+    fm = ForceMap.build(smooth, **axes)
+    pc, pp = fm.point_evaluator("c"), fm.point_evaluator("python")
+    rng = np.random.default_rng(7)
+    lo = [a[0] - 0.1 * (a[-1] - a[0]) - 1.0 for a in axes.values()]
+    hi = [a[-1] + 0.1 * (a[-1] - a[0]) + 1.0 for a in axes.values()]
+    pts = rng.uniform(lo, hi, size=(2000, 4))
+    pts[:, 1] = np.maximum(pts[:, 1], 1e-3)             # speed > 0 (log axis)
+    knots = [tuple(a[i % a.size] for a in axes.values()) for i in range(30)]
+    for p in [*map(tuple, pts.tolist()), *knots]:
+        assert pc(*p) == pytest.approx(pp(*p), abs=1e-15, rel=0.0)
+    assert math.isnan(pc(math.nan, 10.0, 4000.0, 300.0))
+
+
+def test_point_evaluator_backend_is_checked():
+    fm = ForceMap.build(smooth, **AXES)
+    with pytest.raises(InputError, match="backend"):
+        fm.point_evaluator("fortran")

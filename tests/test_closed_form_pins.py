@@ -143,3 +143,27 @@ def test_without_road_data_the_rubber_keeps_all_heat() -> None:
     of a surface flux; the same when the road's share is switched off."""
     for m in (engine(None), engine(ROADS[0], road_heat=False)):
         assert m.R_image == 1.0
+
+
+def test_heat_kernel_is_shared_by_what_it_is_computed_from():
+    """Engines of one process share a heat kernel (lookup.friction._SHARED_KERNELS) only when
+    everything it is computed from agrees: a second engine of the same road and rubber
+    thermal data gets the first one's array, equal bit for bit to the kernel computed afresh
+    (heat_kernel and the lateral factor); another image strength (no road heat), or another
+    rubber diffusivity, gets its own."""
+    import lookup.friction as fr
+
+    road = (1.0, 2000.0, 900.0)
+    v = 0.7
+    a, b = engine(road), engine(road)
+    Ka = a._kernel(v)
+    assert b._kernel(v) is Ka
+    fresh = heat_kernel(a.z_eval, a.a_src, a.D / v, a.D_th, a.rho_c, a.R_image,
+                        fr.HeatKernelSettings(a.settings.tau_per_decade)) * lateral_factor(
+        v * a.D / a.D_th)
+    assert np.array_equal(Ka, fresh)
+    other = engine(road, road_heat=False)
+    assert not np.array_equal(other._kernel(v), Ka)
+    hotter = engine(road)
+    hotter.D_th = 2.0 * a.D_th          # before its first kernel: part of the key
+    assert not np.array_equal(hotter._kernel(v), Ka)

@@ -256,6 +256,46 @@ def test_braking_resolution_enters_the_key():
     assert len(keys) == 3
 
 
+def _pressure_grid(p):
+    """A small friction grid on the pressure nodes ``p`` [Pa] whose friction varies with the
+    pressure (velocity weakening, a flash-temperature rise), the same formula at every node."""
+    from lookup.grid import FrictionGrid
+
+    v = np.logspace(-6, 1.6, 20)
+    T = np.array([283.15, 303.15])
+    V, TT, P = np.meshgrid(v, T, p, indexing="ij")
+    x = np.log10(V) - 0.02 * (TT - 293.15)
+    mu_cold = 0.6 + 0.6 * np.exp(-(((x + 1.5) / 2.0) ** 2)) - 0.1 * np.log10(P / 3e5)
+    return FrictionGrid.from_arrays(v, T, p, {"mu_cold": mu_cold,
+                                              "mu_hot": mu_cold - 0.25 * V / (V + 0.3),
+                                              "dT_flash": 80.0 * V / (V + 0.1)},
+                                    s0_m=2e-4, D_m=1e-3, meta={"kind": "test grid"})
+
+
+def test_pressure_axis_ends_at_the_first_node_the_tire_reads():
+    """The screening grids' pressure axes end at their first node at or above the largest
+    pressure the tire core reads (tire_brush.screening.spec.rubber_pressure_max): the steady
+    brush's braking force on such a grid equals the one on the whole axis to rounding (the
+    cell position computed from other axis ends: 1e-12 relative), and one node fewer moves
+    it (the patch's centre reads the last cell), so the bound is the core's own."""
+    from tire_brush.params import load_tire
+    from tire_brush.screening.spec import pressure_axis_to, rubber_pressure_max
+    from tire_brush.steady import SteadyBrush
+
+    tire = load_tire("passenger")
+    Fz = 4413.0
+    p = np.geomspace(5e4, 2e6, 10)
+    cut = pressure_axis_to(p, rubber_pressure_max(tire, Fz))
+    assert 2 <= cut.size < p.size and cut[-1] >= rubber_pressure_max(tire, Fz) > cut[-2]
+    kappa = np.array([-0.02, -0.08, -0.3, -1.0])
+    force = [SteadyBrush(tire, _pressure_grid(q)).fx_over_fz(kappa, 20.0, Fz, 293.15)
+             for q in (p, cut, cut[:-1])]
+    np.testing.assert_allclose(force[1], force[0], rtol=1e-12, atol=0.0)
+    assert np.max(np.abs(force[2] / force[0] - 1.0)) > 1e-4
+    assert np.array_equal(pressure_axis_to(p, 3e6), p)           # beyond the axis: all of it
+    assert np.array_equal(pressure_axis_to(p, 1e3), p[:2])       # an axis keeps two nodes
+
+
 # -- whole screens (slow: each compound builds two grids and brakes four times) -----------------
 THREE = '''[compounds]
 files = ["summer", "missing.toml"]

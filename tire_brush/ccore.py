@@ -1,7 +1,8 @@
 """ctypes binding of the compiled tire core (``tire_brush/csrc/tirecore.c``).
 
 The core is a C99 library with a plain C API (``tirecore.h``): friction table, transient tire
-(create / step / get_state / set_state / free) and the steady march. It is built by the
+(create / step / get_state / set_state / free), the steady march, and a tensor
+B-spline read at one point (``bspline.h``: a braking study's force map). It is built by the
 package's install as the extension file ``tire_brush/_tirecore*.so`` (``*.pyd`` on Windows)
 and loaded here with :mod:`ctypes` (it is not a Python module: it needs no Python at all,
 which is what lets a native FMU embed it). Where no built library is found (a source
@@ -40,9 +41,9 @@ from .signals import INPUT_NAMES, OUTPUT_NAMES
 #: Folder of the C sources.
 SOURCE_DIR = Path(__file__).with_name("csrc")
 #: C sources of the core, in link order.
-SOURCES = ("tirecore.c", "tirert.c")
+SOURCES = ("tirecore.c", "tirert.c", "bspline.c")
 #: Headers of the core.
-HEADERS = ("tirecore.h", "tirert.h")
+HEADERS = ("tirecore.h", "tirert.h", "bspline.h")
 #: Compiler flags of every build of the core (the package's install reads them from here,
 #: setup.py; the native FMU adds ``-shared``; benchmarks compiling the core use them too):
 #: C99, optimised, no contraction of multiply-adds and no fast-math (the Python reference
@@ -179,6 +180,7 @@ def library_path() -> Path:
 
 def _declare(lib: ctypes.CDLL) -> None:
     dp = ctypes.POINTER(ctypes.c_double)
+    ip = ctypes.POINTER(ctypes.c_int)
     vp = ctypes.c_void_p
     pp = ctypes.POINTER(Params)
     sig = {
@@ -209,6 +211,9 @@ def _declare(lib: ctypes.CDLL) -> None:
         "tf_patch_eval_wet": (ctypes.c_int, [vp] + [ctypes.c_double] * 7 + [dp]),
         "tf_patch_layers": (ctypes.c_int, [vp]),
         "tf_tire_set_patch": (ctypes.c_int, [vp, vp]),
+        "tf_bspline_new": (vp, [ctypes.c_int] + [ip] * 4 + [dp] * 4),
+        "tf_bspline_free": (None, [vp]),
+        "tf_bspline_eval": (ctypes.c_double, [vp] + [ctypes.c_double] * 4),
     }
     for name, (res, args) in sig.items():
         f = getattr(lib, name)

@@ -253,9 +253,18 @@ class BranchTable:
         self._ax = [_axis_index(a) for a in axes]
         self._stride_v = nT * np_
         self._stride_T = np_
+        self._QT_cache: np.ndarray | None = None  # _monomials(), on the first evaluation
+
+    def _monomials(self) -> np.ndarray:
+        """The cells' monomial coefficients, shape ``(n_cells, 24)``, computed on the first
+        evaluation in Python (a table that only feeds the compiled core, e.g. one of the
+        wet friction's per-point blends, never needs them)."""
+        if self._QT_cache is not None:
+            return self._QT_cache
         # monomial coefficients of every cell (one per node; the last node's cells reach into
         # an edge-padded layer and are used with fraction 0 only), read as (8, 3, n_cells)
-        V = np.pad(values, ((0, 1), (0, 1), (0, 1), (0, 0)), mode="edge")
+        nv, nT, np_ = self.values.shape[:3]
+        V = np.pad(self.values, ((0, 1), (0, 1), (0, 1), (0, 0)), mode="edge")
 
         def c(a: int, b: int, d: int) -> np.ndarray:
             return V[a:a + nv, b:b + nT, d:d + np_, :]
@@ -273,8 +282,8 @@ class BranchTable:
         # 24 coefficients per element (the (24, n_cells) layout touches 24 rows spread over
         # the whole table: 100 cells of the default grid took ~2.2 us to gather against
         # ~0.7 us, plus ~0.9 us to transpose the gathered rows)
-        self._QT = np.ascontiguousarray(Q.reshape(24, -1).T)
-
+        self._QT_cache = np.ascontiguousarray(Q.reshape(24, -1).T)
+        return self._QT_cache
 
     @classmethod
     def from_model(cls, model: FrictionModel) -> BranchTable:
@@ -340,7 +349,7 @@ class BranchTable:
     def _cells(self, cell: np.ndarray) -> np.ndarray:
         """Monomial coefficients of the cells ``cell`` (flat indices, any shape), shape
         ``(8, 3, *cell.shape)``."""
-        return self._QT.take(cell.ravel(), axis=0).T.copy().reshape(8, 3, *cell.shape)
+        return self._monomials().take(cell.ravel(), axis=0).T.copy().reshape(8, 3, *cell.shape)
 
     def evaluate(self, v: Any, T: Any, p: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """General evaluation with numpy broadcasting: ``(mu_cold, mu_hot, dT_flash)``."""

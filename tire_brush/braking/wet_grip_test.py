@@ -181,8 +181,9 @@ def braking_run(spec: WetGripSpec, source, T_K: float, label: str = "",
     """ABS stop from ``v_start`` to ``v2`` on the force map of ``source``; BFC over v1 -> v2.
 
     ``point_evaluation``: the quarter car reads the map through
-    :meth:`~tire_brush.braking.force_map.ForceMap.point_evaluator` (the same spline, equal to
-    rounding, cheaper per step; the compound screen uses it)."""
+    :meth:`~tire_brush.braking.force_map.ForceMap.point_evaluator` (the same spline, read by
+    the compiled tire core, equal to rounding, cheaper per step; the compound screen uses
+    it)."""
     from tire_brush.wet_grip import braking_force_coefficient
 
     car = dataclasses.replace(spec.car, radius=source.params.R_e, thermal=None)

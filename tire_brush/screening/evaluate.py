@@ -22,7 +22,7 @@ For a compound (:mod:`.compounds`) :func:`evaluate_compound`:
    the dry and the wet road with the rule-based ABS and a locked wheel (the steps of
    :func:`tire_brush.braking.study.run_case` without the OCP), at the screening's braking
    resolution (:func:`screen_study`: fewer force-map temperatures, a longer largest step;
-   the maps read one point at a time through
+   the maps read one point at a time by the compiled tire core,
    :meth:`~tire_brush.braking.force_map.ForceMap.point_evaluator`);
 6. the peak braking |Fx/Fz| of the steady brush on the dry road at the peak temperatures
    (:func:`tire_brush.wet_friction.peak_fx_over_fz`).
@@ -187,7 +187,8 @@ def wet_temperatures(settings: Settings) -> np.ndarray:
     return T if T.size > 1 else np.array([T[0], T[0] + 2.0])
 
 
-def stops(study, source, case, compound, params) -> dict[str, float]:
+def stops(study, source, case, compound, params, f_r: float | None = None
+          ) -> dict[str, float]:
     """ABS and locked-wheel stops of the study's quarter car on the force map of ``source``
     (the steps of :func:`tire_brush.braking.study.run_case` without the OCP).
 
@@ -201,6 +202,9 @@ def stops(study, source, case, compound, params) -> dict[str, float]:
         The tread compound (the wheel's rolling-resistance moment, f_r at half the initial
         speed and the case temperature as in ``run_case``).
     params : TireParams
+    f_r : float, optional
+        The wheel's rolling-resistance coefficient if the caller has it (the same number:
+        the dry and the wet stop share the car, the speed and the case temperature).
     """
     from tire_brush.braking.abs_control import LockedWheel, RuleBasedABS
     from tire_brush.braking.force_map import ForceMap, default_axes
@@ -216,13 +220,14 @@ def stops(study, source, case, compound, params) -> dict[str, float]:
     ax["T_K"] = (case_temperatures(study, case, True) if study.car.thermal is not None
                  else np.array([case.T_K]))
     fmap = ForceMap.build(source, **ax, label=case.label)
-    f_r = float(rolling_resistance(params, compound, 0.5 * study.v0, study.car.Fz,
-                                   case.T_K).f_r)
+    if f_r is None:
+        f_r = float(rolling_resistance(params, compound, 0.5 * study.v0, study.car.Fz,
+                                       case.T_K).f_r)
     car = dataclasses.replace(study.car, rolling_resistance=f_r)
     v_line = np.geomspace(study.v_stop, study.v0, 25)
     sm_line = optimal_slip(fmap, v_line, [car.Fz], [case.T_K], label=case.label)
     schedule = abs_slip_schedule(sm_line) if study.abs_slip_from_map else None
-    point = fmap.point_evaluator()      # the map's spline, one point per call (cheaper)
+    point = fmap.point_evaluator()      # the map's spline, one point per call, in C
     locked = simulate_braking(car, point, LockedWheel(car.brake_torque_rate_max,
                                                      study.abs_params.control_period),
                               study.v0, study.v_stop, case.T_K, settings=study.simulation,
@@ -276,7 +281,10 @@ def evaluate_on_grids(settings: Settings, compound_file: str | Path, dry_grid: s
     dry = stops(st_dry, brush.fx_over_fz, Case(road, name, settings.T_K), compound, params)
     st_wet = _study(settings, str(wet_grid), thermal=False)
     wsrc = friction_source(wspec, settings.tire, wspec.water_depth, grids)
-    wet = stops(st_wet, wsrc, Case("wet", name, settings.T_K), compound, params)
+    # the wheel's f_r is the dry stop's: the same load, speed and case temperature
+    same = (st_wet.car.Fz, st_wet.v0) == (st_dry.car.Fz, st_dry.v0)
+    wet = stops(st_wet, wsrc, Case("wet", name, settings.T_K), compound, params,
+                f_r=dry["f_r"] if same else None)
     t["stops_s"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()

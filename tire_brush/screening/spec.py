@@ -352,11 +352,71 @@ def screen_settings(spec: ScreenSpec, keep: str | None = None):
                          field="roads.wet", value=spec.wet_grid)
     dry = dry.with_axes(**spec.axes(dry, "dry"))
     wet = wet.with_axes(**spec.axes(wet, "wet"))
+    p_dry, p_wet = read_pressures(spec)
+    dry = dry.with_axes(p=pressure_axis_to(dry.p, p_dry))
+    wet = wet.with_axes(p=pressure_axis_to(wet.p, p_wet))
     return Settings(tire=spec.tire, dry_spec=dry, wet_spec=wet, wet_grip_spec=spec.wet_grip,
                     study=spec.study, v0=spec.v0, v_stop=spec.v_stop, T_K=spec.T_K,
                     peak_T_K=spec.peak_T_K, peak_speed=spec.peak_speed, keep=keep,
                     version=__version__, stop_T_step=float(spec.resolution["stop_T_step"]),
                     stop_dt=float(spec.resolution["stop_dt"]))
+
+
+def rubber_pressure_max(tire, Fz: float) -> float:
+    """The largest pressure [Pa] at which the tire core reads a grid at load ``Fz`` [N]: the
+    patch's peak pressure over the rubber's share of the area, ``p_amp / (1 - void)``, the
+    same operations as the core (``tire_brush.element``'s patch size, flat centre and mean
+    of the pressure shape: flat centre, parabolic ends; the pressure is at most ``p_amp``).
+
+    Parameters
+    ----------
+    tire : TireParams
+    Fz : float
+        Load [N] (a lifted share on a wet road only lowers it).
+    """
+    from tire_brush import ccore, element
+
+    P = ccore.core_params(tire, n_elements=2, dt_internal=1.0, tol=1e-6, v_floor=0.1,
+                          thermal=False, rigid=True, massless=False)
+    a, b = element.patch_size(P, Fz)
+    cf = element.flat_half_length(P, Fz, a, b)
+    mean = (cf + (2.0 / 3.0) * (a - cf)) / a
+    return Fz / (2.0 * a * b * mean) / (1.0 - P.void_ratio)
+
+
+def read_pressures(spec: ScreenSpec) -> tuple[float, float]:
+    """The largest grid pressure [Pa] the outputs read on the dry and on the wet road
+    (:func:`rubber_pressure_max`): dry, the candidate tire at the stops' and the peak
+    friction's load (the study car's); wet, the candidate and the reference tire at the wet
+    grip test's car load and each one's trailer load."""
+    from tire_brush.braking.study import load_study
+    from tire_brush.braking.wet_grip_test import load_wet_grip_spec
+    from tire_brush.params import load_tire
+
+    st = load_study(spec.study)
+    wg = load_wet_grip_spec(spec.wet_grip)
+    dry = rubber_pressure_max(load_tire(spec.tire), st.car.Fz)
+    wet = max(rubber_pressure_max(load_tire(t), Fz) for t in (spec.tire, wg.reference_tire)
+              for Fz in (wg.car.Fz, wg.trailer_load_share * wg.tire_entry(t).load_capacity))
+    return dry, wet
+
+
+def pressure_axis_to(p: np.ndarray, p_max: float) -> np.ndarray:
+    """The pressure axis ``p`` [Pa] up to its first node at or above ``p_max``.
+
+    A grid is read multilinearly in log10 p (the tire core and :mod:`lookup.grid`): a read
+    at a pressure up to ``p_max`` uses the two nodes around it, so the nodes above that
+    first one are never read, and leaving them out of the grid leaves every value the
+    outputs read as it was (to the rounding of the cell's position, the axis' spacing being
+    computed from its ends). Each node's friction is computed on its own, so the grid's
+    remaining nodes are the same numbers; the screen saves their cost (docs/screening.md).
+    An axis that ends below ``p_max`` is returned whole.
+    """
+    p = np.asarray(p, dtype=float)
+    above = np.flatnonzero(p >= p_max)
+    if above.size == 0:
+        return p
+    return p[:max(int(above[0]), 1) + 1].copy()
 
 
 def full_resolution(settings, dry_spec, wet_spec):
