@@ -345,8 +345,8 @@ def test_relaxation_lengths_and_sine_steer(shipped):
 @pytest.mark.slow
 def test_abs_stop_through_the_fmu():
     """The ABS study's quarter car through the native FMU at both fidelities of one build:
-    within 2 % of the full tire's distance at 20 and 40 C (measured +0.09 and -0.38 %); at
-    0 C within 5 % (measured -3.3 %: the full tire's tread stick-slips there and its mean force
+    within 2 % of the full tire's distance at 20 and 40 C (measured -0.06 and +0.18 %); at
+    0 C within 5 % (measured -3.2 %: the full tire's tread stick-slips there and its mean force
     lies 6-9 % of Fz below its own steady march, which the real-time tire follows;
     docs/realtime.md)."""
     if shutil.which("cc") is None and shutil.which("gcc") is None:

@@ -93,6 +93,10 @@ C_SOURCES = ("fmu_wrapper.c", "tfn_model.c", "tfn_files.c", "tirecore.c", "tirer
 #: The wrapper's own files in :data:`NATIVE_DIR`: the FMI glue, the model callbacks, the
 #: resource readers and their internal header.
 WRAPPER_FILES = ("fmu_wrapper.c", "tfn_model.c", "tfn_files.c", "tfn_model.h")
+#: The core's files under ``sources/``: the sources compiled into the binary and their headers
+#: (the core's other parts, e.g. the braking study's force-map reader, stay out of the FMU).
+CORE_FILES = tuple(n for n in (*ccore.SOURCES, *ccore.HEADERS)
+                   if n in C_SOURCES or n[:-2] + ".c" in C_SOURCES)
 #: Headers shipped under ``sources/``.
 HEADERS = ("tirecore.h", "tirert.h", "tfn_model.h", "tfn_config.h", "tfn_interface.h",
            "fmi2Functions.h",
@@ -333,8 +337,7 @@ def stage_sources(directory: Path, vars_: list[Variable], guid: str,
     ``tfn_interface.h`` (:mod:`fmu_src.make.native_header`) into
     ``directory``; returns them by name."""
     files = {name: (NATIVE_DIR / name).read_bytes() for name in WRAPPER_FILES}
-    files |= {name: (ccore.SOURCE_DIR / name).read_bytes()
-              for name in (*ccore.SOURCES, *ccore.HEADERS)}
+    files |= {name: (ccore.SOURCE_DIR / name).read_bytes() for name in CORE_FILES}
     files |= {"tfn_config.h": config_header(vars_, guid, rolling, wet, patch).encode(),
              "tfn_interface.h": interface_header().encode()}
     for h in ("fmi2Functions.h", "fmi2FunctionTypes.h", "fmi2TypesPlatform.h"):
@@ -397,7 +400,7 @@ def build_native_fmu(tire: str | Path | TireParams, grid: str | Path | Any,
             wet = (stage / "resources" / DATA_DIR / build["wet"]["file"]).read_bytes()
         h = hashlib.sha256(b"tirefric-native-fmu\0" + build["build_id"].encode() + table
                            + rolling + wet + patch)
-        for name in (*C_SOURCES, "tfn_model.h", *ccore.HEADERS):
+        for name in (*WRAPPER_FILES, *CORE_FILES):
             src = NATIVE_DIR / name if name in WRAPPER_FILES else ccore.SOURCE_DIR / name
             h.update(name.encode() + b"\0" + src.read_bytes())
         h.update(" ".join(CFLAGS).encode())
