@@ -134,11 +134,10 @@ def pool_size(n_tasks: int, workers: int, scheduler: Any = None) -> int:
     return 1 if workers <= 1 or n_tasks <= 1 else min(workers, n_tasks)
 
 
-def pool_label(n_tasks: int, workers: int, scheduler: Any = None) -> str:
-    """:func:`pool_size` in words, for progress bars and reports: ``"dask"``, ``"serial"``
-    or ``"N processes"``."""
-    n = pool_size(n_tasks, workers, scheduler)
-    return {0: "dask", 1: "serial"}.get(n, f"{n} processes")
+def pool_label(size: int) -> str:
+    """A :func:`pool_size` in words, for progress bars and reports: ``"dask"``,
+    ``"serial"`` or ``"N processes"``."""
+    return {0: "dask", 1: "serial"}.get(size, f"{size} processes")
 
 
 def run_tasks(func: Callable[..., Any], shared: Any, tasks: list[tuple[Any, ...]], *,
@@ -414,7 +413,7 @@ def build_grid(
     n_workers = 1 if scheduler is None and workers == 1 else (
         workers or os.cpu_count() or 1)
     tasks = [(iv, float(spec.v[iv]), spec.T, spec.p) for iv in remaining]
-    where = pool_label(len(remaining), n_workers, scheduler)
+    where = pool_label(pool_size(len(remaining), n_workers, scheduler))
     runner = run_tasks(_timed_slice, model, tasks, workers=n_workers, scheduler=scheduler)
     t_start = time.perf_counter()
     last_save = t_start

@@ -48,7 +48,13 @@ class ScreenResult:
     """Where the computed tasks ran (:func:`lookup.grid.build.pool_size`): 0 on a Dask
     scheduler, 1 in this process, else the number of local processes."""
     files: dict[str, str] = field(default_factory=dict)
-    where: str = ""
+
+    @property
+    def where(self) -> str:
+        """:attr:`workers` in words (:func:`lookup.grid.build.pool_label`)."""
+        from lookup.grid.build import pool_label
+
+        return pool_label(self.workers)
 
     @property
     def failed(self) -> list[dict[str, Any]]:
@@ -110,9 +116,10 @@ def run_screen(spec: ScreenSpec | str | Path, out: str | Path, *, workers: int =
     done = {key: r for _, _, key in jobs if (r := store.get(key)) is not None}
     todo = [(kind, d, key) for kind, d, key in jobs if key not in done]
     t0 = time.perf_counter()
-    where = pool_label(len(todo), workers, scheduler)
+    # where the runner puts the tasks, by its own rule (recorded, and named on the bar)
+    size = pool_size(len(todo), workers, scheduler)
     bar = tqdm(total=len(jobs), initial=len(done), unit="compound", disable=not progress,
-               desc=f"screen {spec.name} ({where})", dynamic_ncols=True)
+               desc=f"screen {spec.name} ({pool_label(size)})", dynamic_ncols=True)
     computed: list[str] = []
     cost: list[float] = []
     try:
@@ -134,7 +141,7 @@ def run_screen(spec: ScreenSpec | str | Path, out: str | Path, *, workers: int =
     reference = done[ref_key]
     result = ScreenResult(spec, out, records, reference, computed,
                           [k for _, _, k in jobs if k not in computed], wall,
-                          pool_size(len(todo), workers, scheduler), where=where)
+                          size)
     if write:
         result.files = write_outputs(result)
     return result
