@@ -88,7 +88,6 @@ CONTACT_AREA_LAWS: tuple[str, ...] = ("persson", "rescaled_kappa")
 #: data. Below it the extrapolation does not matter at that level.
 OUTSIDE_WARNING_SHARE = 0.05
 
-#: Keys of an evaluation that the flash-temperature iteration carries along.
 #: Heat kernels shared by the engines of one process (PerssonFriction._kernel), keyed by
 #: everything a kernel is computed from; at most this many (a kernel is (nq+1)^2 doubles,
 #: ~40 kB at the default settings: at most ~11 MB; a grid's slip-speed axis has ~30-60
@@ -96,6 +95,7 @@ OUTSIDE_WARNING_SHARE = 0.05
 _SHARED_KERNELS: dict[tuple, np.ndarray] = {}
 _SHARED_KERNELS_MAX = 256
 
+#: Keys of an evaluation that the flash-temperature iteration carries along.
 _PARTS = ("mu_visc", "mu_cont", "area", "dmu_w", "P_m")
 #: Keys of the extrapolation accounting (module docstring).
 OUTSIDE_KEYS = ("outside", "outside_visc", "outside_area")
