@@ -362,7 +362,7 @@ def test_cold_weight_follows_the_slip_path_of_eq28() -> None:
 
     c = ref_core.Ctx(P, t, 300.0, 1.0, 1.0, 1.0, 0.0, p, 1.0, V, 0.0, 0.0)
     c.c_flat = math.inf                       # uniform pressure p
-    e = [0.0, 0.0, V, 0.0, 0.0, 0.0, 1.0]
+    e = [0.0, 0.0, V, 0.0, 0.0, 0.0, 1.0, 0.0]
     r = ref_core.integrate(c, e, 0.0, h)
     s_end = V * h
     # the tip lags the base by the change of the spring's deflection, (mu_c - mu_h) p / k
