@@ -1,6 +1,6 @@
 """Ripples of the steady force-slip curves over the operating range.
 
-Run ``python benchmarks/bench_ripples.py [--json] [--points 401] [--threshold 0.005]``.
+Run ``python benchmarks/bench_ripples.py [--json] [--points 401] [--ageing on|off]``.
 
 For every case of 0/20/50 C, 5/10/20/30 m/s and 2/4/6 kN the steady brush (shipped passenger
 tire, default grid) is swept over four curves: pure braking ``Fx(kappa)``, kappa 0 .. -1;
@@ -10,7 +10,8 @@ ripple is a turning point other than the curve's maximum whose reversal exceeds
 ``threshold`` Fz (:func:`tire_brush.curves.ripples`). Reported per temperature, speed and
 curve: the ripple counts at 0.2 % and 0.5 % of Fz (the latter is the criterion of
 docs/tire-core.md, "smoothness"), the cases with any, and the largest reversal. Takes
-~3-6 min on one core at 401 points.
+~3-6 min on one core at 401 points. ``--ageing`` sets the tread's contact age
+(docs/tire-core.md, "contact age"; default: the tire file's).
 """
 
 from __future__ import annotations
@@ -59,8 +60,12 @@ def curves(brush, T_C: float, v: float, Fz: float, n: int) -> dict[str, np.ndarr
             "Fx_comb": np.abs(comb.Fx) / Fz, "Fy_comb": np.abs(comb.Fy) / Fz}
 
 
-def run(n: int, thresholds: tuple[float, ...], brush=None) -> list[dict]:
-    """One row per case and curve: counts at each threshold and the largest reversal."""
+def run(n: int, thresholds: tuple[float, ...], brush=None,
+        ageing: bool | None = None) -> list[dict]:
+    """One row per case and curve: counts at each threshold and the largest reversal
+    (``ageing``: the contact age on or off, None: the tire file's)."""
+    import dataclasses
+
     from lookup.grid import load_grid
     from tire_brush.curves import ripples
     from tire_brush.friction import GridFriction
@@ -68,7 +73,11 @@ def run(n: int, thresholds: tuple[float, ...], brush=None) -> list[dict]:
     from tire_brush.steady import SteadyBrush
 
     if brush is None:
-        brush = SteadyBrush(load_tire("passenger"), GridFriction(load_grid("default")))
+        tire = load_tire("passenger")
+        if ageing is not None:
+            tire = dataclasses.replace(tire, tread=dataclasses.replace(
+                tire.tread, contact_ageing=ageing))
+        brush = SteadyBrush(tire, GridFriction(load_grid("default")))
     rows = []
     for T_C in TEMPS_C:
         for v in SPEEDS:
@@ -84,10 +93,12 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--points", type=int, default=401)
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--ageing", choices=("on", "off"), default=None)
     args = ap.parse_args()
     thresholds = (0.002, 0.005)
     t0 = time.perf_counter()
-    rows = run(args.points, thresholds)
+    rows = run(args.points, thresholds,
+               ageing=None if args.ageing is None else args.ageing == "on")
     wall = time.perf_counter() - t0
     if args.json:
         print(json.dumps({"thresholds": thresholds, "rows": rows, "seconds": wall}))

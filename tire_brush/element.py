@@ -744,10 +744,9 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
         if c.D > 0.0:
             # the age's error as a friction stress: a relative error e of theta moves the
             # friction by mu_scale p e |dmu / dln v|, taken with |dmu / dln v| <= 1; e is
-            # relative to the larger age of the step and filtered by the age's implicit
-            # factor 1 / (1 + Hs V / D) (Hairer and Wanner, sec. IV.8; tirecore.c)
-            thm = o2[11] if o2[11] > th else th
-            eth = (abs(o2[11] - (th + (o1[11] - th) * ig)) / (1.0 + Hs * o2[5] / c.D) / thm
+            # relative to the step's end age and filtered by the age's implicit factor
+            # 1 / (1 + Hs V / D) (Hairer and Wanner, sec. IV.8; tirecore.c)
+            eth = (abs(o2[11] - (th + (o1[11] - th) * ig)) / (1.0 + Hs * o2[5] / c.D) / o2[11]
                    * (c.mu_scale * pe))
             if eth > err:
                 err = eth

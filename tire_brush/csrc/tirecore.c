@@ -796,13 +796,12 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
             /* the age's error as a friction stress: a relative error e of theta moves v_eff
              * by the factor 1 + e, and the friction by mu_scale p e |dmu / dln v|, taken
              * with |dmu / dln v| <= 1 (the grids change by less than 1 per e-fold); e is
-             * relative to the larger age of the step, and filtered by the age's own
-             * implicit factor 1 / (1 + Hs V / D) (Hairer and Wanner, sec. IV.8: the raw
-             * embedded estimate of a stiff component is useless where it relaxes within the
-             * step, as a sliding contact does over D) */
-            double thm = o2.th > th ? o2.th : th;
+             * relative to the step's end age (what the friction reads) and filtered by the
+             * age's own implicit factor 1 / (1 + Hs V / D) (Hairer and Wanner, sec. IV.8:
+             * a fresh contact relaxing to D / V within the step is then accepted, a step
+             * whose first stage read a stale age is not) */
             double eth = fabs(o2.th - (th + (o1.th - th) * ig)) / (1.0 + Hs * o2.V / c->D) /
-                         thm * (c->mu_scale * pe);
+                         o2.th * (c->mu_scale * pe);
             if (eth > err) err = eth;
         }
         err /= c->tol_abs;
