@@ -379,9 +379,30 @@ class _Stage:
 class Ctx:
     """Constants of one outer step (``tf_ctx`` of the core)."""
 
-    __slots__ = ("Vbx", "Vby", "Vr", "c_flat", "dx", "dy", "fT", "iT", "inv_ac", "inv_void",
-                 "kx", "ky", "m", "mu_scale", "p_amp", "t", "tol_abs", "w", "wpsi", "zx", "zy",
-                 "D")
+    __slots__ = (
+        "D",
+        "Vbx",
+        "Vby",
+        "Vr",
+        "c_flat",
+        "dx",
+        "dy",
+        "fT",
+        "iT",
+        "inv_ac",
+        "inv_void",
+        "kx",
+        "ky",
+        "m",
+        "mu_scale",
+        "p_amp",
+        "t",
+        "tol_abs",
+        "w",
+        "wpsi",
+        "zx",
+        "zy",
+    )
 
     def __init__(self, p, t: RefTable, T: float, Fz: float, a: float, b: float, c_flat: float,
                  p_amp: float, mu_scale: float, Vbx: float, Vby: float, Vr: float) -> None:
