@@ -767,8 +767,14 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             # friction by mu_scale p e |dmu / dln v|, taken with |dmu / dln v| <= 1; e is
             # relative to the step's end age and filtered by the age's implicit factor
             # 1 / (1 + Hs V / D) (Hairer and Wanner, sec. IV.8; tirecore.c)
-            eth = (abs(o2[11] - (th + (o1[11] - th) * ig)) / (1.0 + Hs * o2[5] / c.D) / o2[11]
-                   * (c.mu_scale * pe))
+            the = th + (o1[11] - th) * ig
+            eth = abs(o2[11] - the) / (1.0 + Hs * o2[5] / c.D) / o2[11] * (c.mu_scale * pe)
+            # the friction is constant beyond the table's speed axis: between two ages that
+            # both read there (an embedded age <= 0 reads v_eff = inf) it moves nothing
+            vlo, vhi = c.t.vnode[0], c.t.vnode[c.t.n[0] - 1]
+            if (c.D >= vhi * o2[11] and c.D >= vhi * the) or \
+                    (c.D <= vlo * o2[11] and c.D <= vlo * the):
+                eth = 0.0
             if eth > err:
                 err = eth
         err /= c.tol_abs

@@ -800,8 +800,15 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
              * age's own implicit factor 1 / (1 + Hs V / D) (Hairer and Wanner, sec. IV.8:
              * a fresh contact relaxing to D / V within the step is then accepted, a step
              * whose first stage read a stale age is not) */
-            double eth = fabs(o2.th - (th + (o1.th - th) * ig)) / (1.0 + Hs * o2.V / c->D) /
-                         o2.th * (c->mu_scale * pe);
+            double the = th + (o1.th - th) * ig;
+            double eth = fabs(o2.th - the) / (1.0 + Hs * o2.V / c->D) / o2.th *
+                         (c->mu_scale * pe);
+            /* the friction is constant beyond the table's speed axis: between two ages that
+             * both read there (the embedded age <= 0 reads v_eff = inf) it moves nothing */
+            double vlo = c->t->vnode[0], vhi = c->t->vnode[c->t->n[0] - 1];
+            if ((c->D >= vhi * o2.th && c->D >= vhi * the) ||
+                (c->D <= vlo * o2.th && c->D <= vlo * the))
+                eth = 0.0;
             if (eth > err) err = eth;
         }
         err /= c->tol_abs;
