@@ -110,6 +110,10 @@ def test_flat_pressure_raises_the_aligning_moment(tire, grid) -> None:
     assert trail == pytest.approx(a / 3.0, rel=0.05), f"trail {trail * 1e3:.1f} mm vs a/3"
 
 
+@pytest.mark.xfail(strict=True, reason="with the contact age the peak Fx/Fz grows with load "
+                   "(20 C, 20 m/s: 1.085 / 1.088 / 1.104 at 2 / 4 / 6 kN): an element stuck for "
+                   "a time t holds mu(D / t), and a longer patch holds older contacts "
+                   "(docs/tire-core.md, contact age: open)")
 def test_peak_friction_does_not_grow_with_load(tire, grid) -> None:
     """Persson's mu hardly depends on the nominal pressure on this grid (< 0.5 % between 0.2
     and 0.6 MPa at 1-10 m/s, 20 C), and the inflation-limited pressure keeps the rubber's
