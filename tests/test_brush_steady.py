@@ -118,7 +118,8 @@ def test_s0_limits_recover_hot_only_and_cold_only(tire) -> None:
     grid), s0 -> 0 is exactly the hot-only tire and s0 -> inf the cold-only tire (eq. 28).
     The identities are eq. (28)'s, with the friction read at the slip speed: the contact age
     is off here (its length D = s0 / 0.2 moves with s0; its own limit is checked below)."""
-    aged = tire
+    aged = dataclasses.replace(tire, tread=dataclasses.replace(tire.tread,
+                                                               contact_ageing=True))
     tire = dataclasses.replace(tire, tread=dataclasses.replace(tire.tread,
                                                                contact_ageing=False))
     grid = peaked_grid()

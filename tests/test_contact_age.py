@@ -16,12 +16,11 @@ And the core equals its Python mirror with the law on; the state carries the age
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
 import pytest
-from brush_cases import T20, passenger, peaked_grid
+from brush_cases import T20, passenger, with_contact_age
 
 from lookup.grid.store import load_grid
 from tire_brush import element as ref_core
@@ -135,43 +134,10 @@ def grid():
     return load_grid()
 
 
-def _with_ageing(tire, on: bool):
-    return dataclasses.replace(tire, tread=dataclasses.replace(tire.tread, contact_ageing=on))
-
-
-@pytest.mark.parametrize("case,ageing", [("grid", True), ("peaked_aniso_thermal", True),
-                                         ("grid", False)])
-def test_core_equals_python_reference_with_ageing(grid, case, ageing) -> None:
-    """Random inputs as in test_tire_core's pin: the C core and the mirror agree (1e-10, the
-    same IEEE operations; room for another libm) with the contact age on, and off (the shipped
-    tires have it on, so the off path is pinned here)."""
-    tire = _with_ageing(passenger(), ageing)
-    kw: dict = {"n_elements": 12, "dt_internal": 5e-4}
-    friction = grid if case == "grid" else peaked_grid()
-    if case != "grid":
-        kw["thermal"] = True
-    c = TransientBrushTire(tire, friction, **kw)
-    r = TransientBrushTire(tire, friction, backend="reference", **kw)
-    rng = np.random.default_rng(7)
-    for k in range(40):
-        vx = 25.0 * math.cos(k / 9.0)
-        kappa = rng.uniform(-0.3, 0.2)
-        u = (float(rng.choice([1e-3, 2.3e-3, 1e-7])), vx, float(rng.normal(0.0, 1.0)),
-             vx * (1.0 + kappa) / tire.R_e, float(rng.choice([4000.0, 2500.0, 0.0, 6000.0])),
-             T20 - 20.0 + 40.0 * rng.random(), 1.0)
-        np.testing.assert_allclose(c.step_array(*u), r.step_array(*u), rtol=1e-10,
-                                   atol=1e-10 * 4000.0, err_msg=f"outputs differ at step {k}")
-    sc, sr = c.state_vector(), r.state_vector()
-    np.testing.assert_allclose(sc, sr, rtol=1e-10, atol=1e-14)
-    ages = sc[ref_core.STATE_HEAD:].reshape(-1, ref_core.N_ELEM)[:, 7]
-    if ageing:
-        assert (ages >= 0.0).all() and ages.max() > 0.0, "the age column is carried"
-    else:
-        assert (ages == 0.0).all(), "no age without the law"
-
-
-def test_steady_core_equals_reference_with_ageing(grid) -> None:
-    tire = _with_ageing(passenger(), True)
+def test_steady_core_equals_referencewith_contact_age(grid) -> None:
+    """The steady march with the contact age on: the C core and the mirror agree (1e-10, the
+    same IEEE operations)."""
+    tire = with_contact_age(passenger(), True)
     kappa = np.array([-0.6, -0.06, -0.01, 0.08])
     alpha = np.array([0.0, 0.05, -0.1, 0.2])
     c = SteadyBrush(tire, grid, n_elements=16).solve(kappa, alpha, 20.0, 4000.0, 280.0)
@@ -186,8 +152,8 @@ def test_no_renewal_length_reads_the_slip_speed() -> None:
     no D and the law reads the friction at |w|, bit for bit the law switched off."""
     tire = passenger()
     f = ConstantFriction(1.2, 0.8, s0=math.inf)
-    on = TransientBrushTire(_with_ageing(tire, True), f, n_elements=12)
-    off = TransientBrushTire(_with_ageing(tire, False), f, n_elements=12)
+    on = TransientBrushTire(with_contact_age(tire, True), f, n_elements=12)
+    off = TransientBrushTire(with_contact_age(tire, False), f, n_elements=12)
     for k in range(30):
         u = (1e-3, 15.0, 0.3, 15.0 * (1.0 - 0.05 * (k % 4)) / tire.R_e, 4000.0, T20, 1.0)
         np.testing.assert_array_equal(on.step_array(*u), off.step_array(*u))
@@ -199,7 +165,7 @@ def test_ageing_changes_a_braking_tire(grid) -> None:
     tire = passenger()
     out = {}
     for on in (False, True):
-        tr = TransientBrushTire(_with_ageing(tire, on), grid)
+        tr = TransientBrushTire(with_contact_age(tire, on), grid)
         om = 10.0 * 0.95 / tire.R_e
         out[on] = np.array([tr.step_array(1e-3, 10.0, 0.0, om, 4000.0, 273.15)[0]
                             for _ in range(60)])
@@ -209,7 +175,7 @@ def test_ageing_changes_a_braking_tire(grid) -> None:
 def test_state_round_trip_carries_the_age(grid) -> None:
     """get_state / set_state restore the age column bit for bit (the continued runs agree to
     the bit); a state of the previous layout, or with a negative age, is refused."""
-    tire = _with_ageing(passenger(), True)
+    tire = with_contact_age(passenger(), True)
     a = TransientBrushTire(tire, grid, n_elements=20)
     om = 12.0 * 0.97 / tire.R_e
     for _ in range(40):

@@ -229,21 +229,21 @@ def test_state_of_another_build_or_discretisation_is_refused(resources):
 
 
 def test_contact_age_switch_reaches_the_core(resources):
-    """tire.tread.contact_ageing = false before initialisation: the slave equals the Python
-    model of the tire without the contact age (and differs from the shipped tire's)."""
+    """tire.tread.contact_ageing = true before initialisation: the slave equals the Python
+    model of the tire with the contact age (and differs from the shipped tire's, off)."""
     import dataclasses
 
-    s = make_slave(resources, **{"tire.tread.contact_ageing": False})
+    s = make_slave(resources, **{"tire.tread.contact_ageing": True})
     tire = load_tire("passenger")
-    off = TransientBrushTire(dataclasses.replace(tire, tread=dataclasses.replace(
-        tire.tread, contact_ageing=False)), GridFriction(synthetic_grid()))
-    on = TransientBrushTire(tire, GridFriction(synthetic_grid()))
+    on = TransientBrushTire(dataclasses.replace(tire, tread=dataclasses.replace(
+        tire.tread, contact_ageing=True)), GridFriction(synthetic_grid()))
+    off = TransientBrushTire(tire, GridFriction(synthetic_grid()))
     U = braking_inputs(60)
     differs = False
     for k in range(U.shape[1]):
         y = step(s, U[:, k])
-        assert np.array_equal(y, off.step(1e-3, *U[:, k]).as_array()), f"step {k}"
-        differs |= not np.array_equal(y, on.step(1e-3, *U[:, k]).as_array())
+        assert np.array_equal(y, on.step(1e-3, *U[:, k]).as_array()), f"step {k}"
+        differs |= not np.array_equal(y, off.step(1e-3, *U[:, k]).as_array())
     assert differs, "the switch must change the tire"
 
 

@@ -49,30 +49,55 @@ def test_counter_refuses_bad_input() -> None:
         turning_points([0.0, np.nan], 0.1)
 
 
-@pytest.fixture(scope="module")
-def brush():
+def _brush(ageing: bool | None = None):
+    """The shipped passenger tire on the default grid (``ageing``: its tread's contact age
+    on / off; None: the tire file's, off)."""
+    import dataclasses
+
     from lookup.grid import load_grid
     from tire_brush.friction import GridFriction
     from tire_brush.params import load_tire
     from tire_brush.steady import SteadyBrush
 
-    return SteadyBrush(load_tire("passenger"), GridFriction(load_grid("default")))
+    tire = load_tire("passenger")
+    if ageing is not None:
+        tire = dataclasses.replace(tire, tread=dataclasses.replace(tire.tread,
+                                                                   contact_ageing=ageing))
+    return SteadyBrush(tire, GridFriction(load_grid("default")))
 
 
-@pytest.mark.parametrize("T_C,v,Fz", [(0.0, 10.0, 4000.0), (20.0, 5.0, 4000.0)])
-def test_steady_curves_have_one_maximum_sample(brush, T_C, v, Fz) -> None:
-    """Two cases of the range below (the worst at 0 and 20 C on the shipped tire without the
-    contact age), 201 points per curve (a ripple of the full range's 401-point sweep spans
-    >= 4 points). With the tire file's contact age they have none."""
+@pytest.fixture(scope="module")
+def brush():
+    return _brush()
+
+
+#: The shipped tire's single row of identical elements stick-slips in phase on the falling
+#: mu(v); with the tread's contact age (off in the shipped tire, docs/tire-core.md "contact
+#: age") a re-sticking element no longer holds the table's low-speed peak and these pass.
+RIPPLES = pytest.mark.xfail(strict=True, reason="the single-row brush of identical elements "
+                            "stick-slips in phase on the falling mu(v): ripples "
+                            "(docs/tire-core.md)")
+
+
+@pytest.mark.parametrize("T_C,v,Fz,ageing", [
+    pytest.param(0.0, 10.0, 4000.0, False, marks=RIPPLES),
+    pytest.param(20.0, 5.0, 4000.0, False, marks=RIPPLES),
+    (0.0, 10.0, 4000.0, True), (20.0, 5.0, 4000.0, True)])
+def test_steady_curves_have_one_maximum_sample(T_C, v, Fz, ageing) -> None:
+    """Two cases of the range below (the worst at 0 and 20 C on the shipped tire), 201
+    points per curve (a ripple of the full range's 401-point sweep spans >= 4 points),
+    with the tread's contact age off (the shipped tire) and on."""
     from bench_ripples import curves
 
-    found = {k: ripples(y, THRESHOLD) for k, y in curves(brush, T_C, v, Fz, 201).items()}
+    found = {k: ripples(y, THRESHOLD)
+             for k, y in curves(_brush(ageing), T_C, v, Fz, 201).items()}
     assert not any(found.values()), found
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="with the contact age 5 of 144 curves still ripple: "
-                   "0 C pure braking at 5 and 10 m/s (docs/tire-core.md, contact age)")
+@pytest.mark.xfail(strict=True, reason="78 of 144 curves ripple on the shipped tire (5 with "
+                   "the tread's contact age on: 0 C pure braking at 5 and 10 m/s; "
+                   "docs/tire-core.md)")
 def test_steady_curves_have_one_maximum_over_the_range(brush) -> None:
     """0/20/50 C, 5/10/20/30 m/s, 2/4/6 kN; pure braking, pure cornering, combined at
     4 deg (benchmarks/bench_ripples.py): no ripple above 0.5 % of Fz in any of 144 curves of
