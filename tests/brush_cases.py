@@ -17,6 +17,12 @@ def passenger() -> TireParams:
     return load_tire("passenger")
 
 
+def with_contact_age(tire: TireParams, on: bool) -> TireParams:
+    """``tire`` with its tread's contact age switched ``on`` / off (docs/tire-core.md,
+    "contact age"; off in the shipped tires)."""
+    return dataclasses.replace(tire, tread=dataclasses.replace(tire.tread, contact_ageing=on))
+
+
 def isotropic(tire: TireParams) -> TireParams:
     """``tire`` with the lateral tread stiffness and damping set to the longitudinal ones
     (the closed-form combined slip of Pacejka holds for isotropic stiffness)."""

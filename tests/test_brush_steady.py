@@ -8,6 +8,8 @@ so the tests also pin a tighter discretisation bound where it holds, with the re
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from brush_cases import T20, isotropic, pacejka_like, passenger, peaked_grid, without_thermal
@@ -113,7 +115,13 @@ def test_flat_two_branch_grid_s0_limits(tire) -> None:
 
 def test_s0_limits_recover_hot_only_and_cold_only(tire) -> None:
     """With branches that agree at the lowest speed (no flash heating at v -> 0, as in a real
-    grid), s0 -> 0 is exactly the hot-only tire and s0 -> inf the cold-only tire (eq. 28)."""
+    grid), s0 -> 0 is exactly the hot-only tire and s0 -> inf the cold-only tire (eq. 28).
+    The identities are eq. (28)'s, with the friction read at the slip speed: the contact age
+    is off here (its length D = s0 / 0.2 moves with s0; its own limit is checked below)."""
+    aged = dataclasses.replace(tire, tread=dataclasses.replace(tire.tread,
+                                                               contact_ageing=True))
+    tire = dataclasses.replace(tire, tread=dataclasses.replace(tire.tread,
+                                                               contact_ageing=False))
     grid = peaked_grid()
     mu_c, mu_h = grid["mu_cold"], grid["mu_hot"]
     base = {n: grid[n] for n in ("mu_cold", "mu_hot", "dT_flash")}
@@ -134,6 +142,17 @@ def test_s0_limits_recover_hot_only_and_cold_only(tire) -> None:
     np.testing.assert_allclose(Fx(GridFriction(grid, s0=np.inf)), cold, rtol=0, atol=1e-6 * FZ,
                                err_msg="s0 -> inf must reproduce the cold-only curve")
     assert np.abs(hot - cold).max() > 0.05 * FZ, "test grid must separate the branches"
+    # with the contact age: s0 = inf has no D (the friction at |w|: the same bits); s0 -> 0
+    # sends D -> 0, the age relaxes at once in sliding and a stuck element reads the first
+    # node either way, so the law-off hot-only curve again, up to the stick-slip events'
+    # first 10 ns stage, which reads the stuck age (measured 4.5e-5 Fz; bound 2e-4 Fz)
+    assert aged.tread.contact_ageing
+    np.testing.assert_array_equal(
+        SteadyBrush(aged, GridFriction(grid, s0=np.inf)).solve(kappa, 0.0, VX, FZ, T20).Fx,
+        Fx(GridFriction(grid, s0=np.inf)))
+    np.testing.assert_allclose(
+        SteadyBrush(aged, GridFriction(grid, s0=0.0)).solve(kappa, 0.0, VX, FZ, T20).Fx, hot,
+        rtol=0, atol=2e-4 * FZ)
 
 
 def test_mass_and_damping_change_constant_friction_little(tire) -> None:

@@ -121,15 +121,19 @@ def test_native_equals_python_model_braking(fmu, unzipdir):
     assert U.shape[1] == 400
 
 
-def test_native_honours_parameters(fmu, unzipdir):
-    """n_elements, dt_internal, s0, v_floor and a tire parameter set before initialisation."""
+@pytest.mark.parametrize("ageing", [True, False])
+def test_native_honours_parameters(fmu, unzipdir, ageing):
+    """n_elements, dt_internal, s0, v_floor and tire parameters (a number and the contact
+    age's switch) set before initialisation."""
     tire = load_tire("passenger")
     start = {"n_elements": 20, "dt_internal": 5e-4, "s0": 1e-3, "v_floor": 0.5,
-             "tire.tread.k_x": 1.5 * tire.tread.k_x, "tire.thermal.enabled": False}
+             "tire.tread.k_x": 1.5 * tire.tread.k_x, "tire.thermal.enabled": False,
+             "tire.tread.contact_ageing": ageing}
     drv = FmuDriver(fmu, unzipdir, start_values=start)
     from dataclasses import replace
 
-    t2 = replace(tire, tread=replace(tire.tread, k_x=1.5 * tire.tread.k_x),
+    t2 = replace(tire, tread=replace(tire.tread, k_x=1.5 * tire.tread.k_x,
+                                     contact_ageing=ageing),
                  thermal=replace(tire.thermal, enabled=False))
     model = TransientBrushTire(t2, GridFriction(synthetic_grid(), s0=1e-3), n_elements=20,
                                dt_internal=5e-4, v_floor=0.5)

@@ -228,6 +228,25 @@ def test_state_of_another_build_or_discretisation_is_refused(resources):
         assert state_io.to_bytes(s._get_fmu_state()) == before, f"{why}: the state changed"
 
 
+def test_contact_age_switch_reaches_the_core(resources):
+    """tire.tread.contact_ageing = true before initialisation: the slave equals the Python
+    model of the tire with the contact age (and differs from the shipped tire's, off)."""
+    import dataclasses
+
+    s = make_slave(resources, **{"tire.tread.contact_ageing": True})
+    tire = load_tire("passenger")
+    on = TransientBrushTire(dataclasses.replace(tire, tread=dataclasses.replace(
+        tire.tread, contact_ageing=True)), GridFriction(synthetic_grid()))
+    off = TransientBrushTire(tire, GridFriction(synthetic_grid()))
+    U = braking_inputs(60)
+    differs = False
+    for k in range(U.shape[1]):
+        y = step(s, U[:, k])
+        assert np.array_equal(y, on.step(1e-3, *U[:, k]).as_array()), f"step {k}"
+        differs |= not np.array_equal(y, off.step(1e-3, *U[:, k]).as_array())
+    assert differs, "the switch must change the tire"
+
+
 def test_parameters_set_before_initialization_are_used(resources):
     coarse = make_slave(resources, **{"n_elements": 40, "tire.thermal.enabled": False})
     assert coarse._model.n_elements == 40 and not coarse._model.thermal

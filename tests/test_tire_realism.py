@@ -110,13 +110,21 @@ def test_flat_pressure_raises_the_aligning_moment(tire, grid) -> None:
     assert trail == pytest.approx(a / 3.0, rel=0.05), f"trail {trail * 1e3:.1f} mm vs a/3"
 
 
-def test_peak_friction_does_not_grow_with_load(tire, grid) -> None:
+@pytest.mark.parametrize("ageing", [
+    False, pytest.param(True, marks=pytest.mark.xfail(
+        strict=True, reason="with the tread's contact age (off in the shipped tire) the peak "
+        "Fx/Fz grows with load (20 C, 20 m/s: 1.085 / 1.088 / 1.104 at 2 / 4 / 6 kN): an element "
+        "stuck for a time t holds mu(D / t), and a longer patch holds older contacts "
+        "(docs/tire-core.md, contact age: open)"))])
+def test_peak_friction_does_not_grow_with_load(tire, grid, ageing) -> None:
     """Persson's mu hardly depends on the nominal pressure on this grid (< 0.5 % between 0.2
     and 0.6 MPa at 1-10 m/s, 20 C), and the inflation-limited pressure keeps the rubber's
     pressure nearly constant as the patch grows: the peak Fx/Fz falls by ~2.5 % from 2 to
     6 kN (measured 1.076 / 1.055 / 1.049) and Fy/Fz likewise (1.085 / 1.065 / 1.058), far
     less than the 7-19 % of measured passenger tires (docs/tire-core.md). The test guards
     the sign: no growth with load."""
+    tire = dataclasses.replace(tire, tread=dataclasses.replace(tire.tread,
+                                                               contact_ageing=ageing))
     m = SteadyBrush(tire, grid)
     kappa = np.linspace(-0.3, -0.01, 59)
     peaks = [np.abs(m.solve(kappa, 0.0, VX, F, T20).Fx).max() / F for F in (2e3, 4e3, 6e3)]

@@ -56,7 +56,7 @@ CFLAGS = (*CORE_CFLAGS, "-fPIC", "-shared")
 #: (``TF_STEADY_IN``, ``TF_STEADY_OUT``). tests/test_interface_table.py parses ``tirecore.h``
 #: and compares.
 N_IN, N_OUT = len(INPUT_NAMES), len(OUTPUT_NAMES)
-N_ELEM, STEADY_IN, STEADY_OUT = 7, 5, 10
+N_ELEM, STEADY_IN, STEADY_OUT = 8, 5, 10
 #: Work counters of a tire (``TF_NCOUNT``): sub-steps, stage solves, budget fallbacks.
 N_COUNT = 3
 
@@ -83,7 +83,8 @@ class Params(ctypes.Structure):
         ("thermal", ctypes.c_int)] + [
         (n, ctypes.c_double) for n in ("heat_capacity", "conductance", "heat_fraction")] + [
         ("n_elements", ctypes.c_int), ("dt_internal", ctypes.c_double),
-        ("tol", ctypes.c_double), ("v_floor", ctypes.c_double)]
+        ("tol", ctypes.c_double), ("v_floor", ctypes.c_double),
+        ("contact_ageing", ctypes.c_int)]
 
 
 def _sources_digest() -> str:
@@ -313,6 +314,7 @@ def core_params(params, *, n_elements: int, dt_internal: float, tol: float, v_fl
                                                        th.heat_fraction)
     P.n_elements = int(n_elements)
     P.dt_internal, P.tol, P.v_floor = float(dt_internal), float(tol), float(v_floor)
+    P.contact_ageing = int(bool(getattr(tr, "contact_ageing", False)))
     return P
 
 

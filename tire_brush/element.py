@@ -71,14 +71,17 @@ H_MIN = 1e-8
 S_MAX = 1e6
 #: Smallest rolling speed of the steady march [m/s] (a locked wheel).
 V_ROLL_MIN = 1e-6
-#: Columns of one element: u_x, u_y, w_x, w_y, s, proposed sub-step, in contact.
-N_ELEM = 7
+#: Columns of one element: u_x, u_y, w_x, w_y, s, proposed sub-step, in contact, contact age.
+N_ELEM = 8
 #: Head of the state vector (version, lattice size, x_top, belt deflection and velocity,
 #: tread force, tread temperature, time, 12 outputs, belt yaw angle, yaw rate, tread moment,
 #: spin of the base from camber).
 STATE_HEAD = 27
 #: State layout version.
-STATE_VERSION = 4
+STATE_VERSION = 5
+#: Contact-age length per renewal length of eq. (28): s0 = 0.2 D, so D = 5 s0
+#: (``AGE_D_PER_S0`` of the core; docs/tire-core.md, "contact age").
+AGE_D_PER_S0 = 5.0
 #: Number of outputs of a step (``TF_NOUT``): Fx, Fy, Mz, kappa, alpha, mu_eff, mu_slide,
 #: sliding_fraction, dT_flash_max, T_tread, Mx, My.
 N_OUT = 12
@@ -266,8 +269,25 @@ def _flatten(values):
 class _Stage:
     """The friction root problem of one stage (module docstring)."""
 
-    __slots__ = ("Amax", "Amin", "Ax", "Ay", "E", "G", "Hs", "P", "Zs", "c0", "c1", "cell",
-                 "dT", "gx", "gy", "inv_s0", "iso", "ispan", "lvj", "pf", "q", "t")
+    __slots__ = ("Amax", "Amin", "Ax", "Ay", "D", "E", "G", "Hs", "P", "Zs", "c0", "c1", "cell",
+                 "dT", "gx", "gy", "inv_s0", "iso", "ispan", "jlo", "lvj", "pf", "q", "t", "th")
+
+    def vn(self, j: int) -> float:
+        """Speed node ``j`` as the stage's slip speed: ``v_j``, or with the contact age the
+        ``V`` at which ``v_eff(V) = (D + Hs V) / th`` reaches it, ``(th v_j - D) / Hs``."""
+        v = self.t.vnode[j]
+        return (self.th * v - self.D) / self.Hs if self.D > 0.0 else v
+
+    def cell_of(self, lo: int, V: float) -> int:
+        """The largest node ``j`` in ``[lo, nv - 1]`` with ``vn(j) <= V``."""
+        hi = self.t.n[0]
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if self.vn(mid) <= V:
+                lo = mid
+            else:
+                hi = mid
+        return lo
 
     def set_cell(self, j: int) -> None:
         t = self.t
@@ -290,8 +310,13 @@ class _Stage:
         ``P``, the cold weight ``E`` and the flash temperature ``dT`` of this evaluation."""
         c0, c1 = self.c0, self.c1
         if self.ispan > 0.0:
-            tt = (math.log10(V) - self.lvj) * self.ispan
-            dl = self.ispan / (V * LN10)
+            # with the contact age the table is read at v_eff = (D + Hs V) / th, whose slope
+            # Hs / th enters the derivative
+            ve = (self.D + self.Hs * V) / self.th if self.D > 0.0 else V
+            tt = (math.log10(ve) - self.lvj) * self.ispan
+            dl = self.ispan / (ve * LN10)
+            if self.D > 0.0:
+                dl *= self.Hs / self.th
             mc = c0[0] + c1[0] * tt
             mh = c0[1] + c1[1] * tt
             dT = c0[2] + c1[2] * tt
@@ -321,7 +346,7 @@ class _Stage:
     def node_resid(self, j: int) -> float:
         """R at speed node ``j`` from the node's values alone (no interpolation)."""
         n = self.t.node(self.q, j)
-        V = self.t.vnode[j]
+        V = self.vn(j)
         E = _cold_weight((self.Zs + self.Hs * V) * self.inv_s0) if self.inv_s0 > 0.0 else 1.0
         P = self.pf * (n[1] + (n[0] - n[1]) * E)
         if self.iso:
@@ -354,8 +379,30 @@ class _Stage:
 class Ctx:
     """Constants of one outer step (``tf_ctx`` of the core)."""
 
-    __slots__ = ("Vbx", "Vby", "Vr", "c_flat", "dx", "dy", "fT", "iT", "inv_ac", "inv_void",
-                 "kx", "ky", "m", "mu_scale", "p_amp", "t", "tol_abs", "w", "wpsi", "zx", "zy")
+    __slots__ = (
+        "D",
+        "Vbx",
+        "Vby",
+        "Vr",
+        "c_flat",
+        "dx",
+        "dy",
+        "fT",
+        "iT",
+        "inv_ac",
+        "inv_void",
+        "kx",
+        "ky",
+        "m",
+        "mu_scale",
+        "p_amp",
+        "t",
+        "tol_abs",
+        "w",
+        "wpsi",
+        "zx",
+        "zy",
+    )
 
     def __init__(self, p, t: RefTable, T: float, Fz: float, a: float, b: float, c_flat: float,
                  p_amp: float, mu_scale: float, Vbx: float, Vby: float, Vr: float) -> None:
@@ -372,6 +419,9 @@ class Ctx:
         self.tol_abs = p.tol * (0.5 * Fz / (a * b))
         self.zx = math.sqrt(p.k_x * p.mass) + p.d_x
         self.zy = math.sqrt(p.k_y * p.mass) + p.d_y
+        #: contact-age length [m] (0: the friction read at |w|)
+        self.D = AGE_D_PER_S0 / t.inv_s0 if getattr(p, "contact_ageing", 0) and t.inv_s0 > 0.0 \
+            else 0.0
         #: the outer step's work ``[attempts left, stage solves, fallbacks]`` (``tf_work`` of
         #: the core; docs/tire-core.md, "work budget"), or None: no budget
         self.w: list[float] | None = None
@@ -393,17 +443,23 @@ def shape(c_flat: float, inv_ac: float, x: float) -> float:
 
 
 def stage(c: Ctx, Hs: float, p: float, Vby: float, Zux: float, Zuy: float, Zwx: float,
-          Zwy: float, Zs: float, V_start: float) -> tuple[float, ...]:
+          Zwy: float, Zs: float, Zth: float, V_start: float) -> tuple[float, ...]:
     """One implicit stage ``Y = Z + Hs F(Y)`` at pressure ``p`` [Pa] with the base's lateral
     slip speed ``Vby`` [m/s] (module docstring).
 
     Returns
     -------
     tuple
-        ``(u_x, u_y, w_x, w_y, s, V, P, E, dT_flash, f_x, f_y)``: the stage state, its slip
-        speed, the friction stress ``P = mu_scale p mu`` [Pa] (0 when sticking), the cold
+        ``(u_x, u_y, w_x, w_y, s, V, P, E, dT_flash, f_x, f_y, theta)``: the stage state,
+        its slip speed, the friction stress ``P = mu_scale p mu`` [Pa] (0 when sticking), the cold
         weight of eq. (28), the hot branch's flash temperature rise [K] and the friction
-        stress vector on the tip ``f = A w - g`` [Pa] (what holds a sticking tip).
+        stress vector on the tip ``f = A w - g`` [Pa] (what holds a sticking tip), and the
+        contact age [s] (``Zth`` unchanged without the law).
+
+    With the contact age (docs/tire-core.md, "contact age") the stage's age is implicit,
+    ``theta = (Z_theta + Hs) / (1 + Hs V / D)``, and the friction is read at
+    ``v_eff = D / theta = (D + Hs V) / th``, ``th = Z_theta + Hs``; a second-stage
+    extrapolation ``Z_theta < 0`` (a stiff relaxation step) counts as a fresh contact.
     """
     t = c.t
     S = _Stage()
@@ -424,16 +480,38 @@ def stage(c: Ctx, Hs: float, p: float, Vby: float, Zux: float, Zuy: float, Zwx: 
     S.Amin = S.Ax if S.Ax < S.Ay else S.Ay
     S.Amax = S.Ay if S.Ax < S.Ay else S.Ax
     S.q = t.prep(c.iT, c.fT, p * c.inv_void)
-    S.set_cell(-1)
-    E0 = _cold_weight(Zs * S.inv_s0) if S.inv_s0 > 0.0 else 1.0
-    mu0 = S.c0[1] + (S.c0[0] - S.c0[1]) * E0
+    S.D = c.D
+    S.th = Zth + Hs if Zth > 0.0 else Hs
+    S.jlo = S.cell_of(-1, 0.0) if S.D > 0.0 else -1
+    S.set_cell(S.jlo)
+    if S.D > 0.0:                               # the friction at v_eff(0) = D / th
+        E0 = _cold_weight(Zs * S.inv_s0) if S.inv_s0 > 0.0 else 1.0
+        mc, mh, dT0 = S.c0[0], S.c0[1], S.c0[2]
+        if S.ispan > 0.0:
+            tt = (math.log10(S.D / S.th) - S.lvj) * S.ispan
+            mc = S.c0[0] + S.c1[0] * tt
+            mh = S.c0[1] + S.c1[1] * tt
+            dT0 = S.c0[2] + S.c1[2] * tt
+        mu0 = mh + (mc - mh) * E0
+        S.dT = dT0
+    else:
+        E0 = _cold_weight(Zs * S.inv_s0) if S.inv_s0 > 0.0 else 1.0
+        mu0 = S.c0[1] + (S.c0[0] - S.c0[1]) * E0
+        S.dT = S.c0[2]
     if S.G <= mu0 * S.pf:                       # the tip sticks
-        return (Zux - Hs * c.Vbx, Zuy - Hs * Vby, 0.0, 0.0, Zs, 0.0, 0.0, E0, S.c0[2],
-                -S.gx, -S.gy)
+        return (Zux - Hs * c.Vbx, Zuy - Hs * Vby, 0.0, 0.0, Zs, 0.0, 0.0, E0, S.dT,
+                -S.gx, -S.gy, S.th if S.D > 0.0 else Zth)
     V_hi = S.G / (S.Ax if S.Ax < S.Ay else S.Ay)
     Vs = V_start if V_start < V_hi else V_hi
     nv = t.n[0]
-    if not Vs > t.vnode[0]:
+    if S.D > 0.0:                               # the cells in V of the mapped nodes
+        if not Vs > 0.0:
+            v1 = S.vn(S.jlo + 1) if S.jlo + 1 <= nv - 1 else V_hi
+            Vs = 0.5 * v1 if 0.5 * v1 < V_hi else 0.5 * V_hi
+        j = S.cell_of(S.jlo, Vs)
+        if j != S.cell:
+            S.set_cell(j)
+    elif not Vs > t.vnode[0]:
         if not Vs > 0.0:
             Vs = 0.5 * t.vnode[0] if 0.5 * t.vnode[0] < V_hi else 0.5 * V_hi
     elif Vs >= t.vnode[nv - 1]:
@@ -450,7 +528,7 @@ def stage(c: Ctx, Hs: float, p: float, Vby: float, Zux: float, Zuy: float, Zwx: 
         lo = Vs
         while True:
             last = False
-            ub = t.vnode[S.cell + 1] if S.cell < nv - 1 else V_hi
+            ub = S.vn(S.cell + 1) if S.cell < nv - 1 else V_hi
             if ub >= V_hi:
                 ub, last = V_hi, True
             V = None
@@ -484,37 +562,37 @@ def stage(c: Ctx, Hs: float, p: float, Vby: float, Zux: float, Zuy: float, Zwx: 
                 if t.smax is not None:
                     Pm = S.pf * t.bound(t.smax, S.q, j)
                     Vb = (S.G * (1.0 - WALK_MARGIN) - Pm) / S.Amax
-                    if t.vnode[j] < Vb:         # the bound holds at every node above j too
+                    if S.vn(j) < Vb:         # the bound holds at every node above j too
                         stop = False
                         while True:
-                            if not (j + 1 <= nv - 1 and t.vnode[j + 1] < V_hi):
+                            if not (j + 1 <= nv - 1 and S.vn(j + 1) < V_hi):
                                 stop = True
                                 break
                             j += 1
-                            if not t.vnode[j] < Vb:
+                            if not S.vn(j) < Vb:
                                 break
                         rj = -1.0
                         if stop:
                             break
                         continue
                 rj = S.node_resid(j)
-                if not (rj < 0.0 and j + 1 <= nv - 1 and t.vnode[j + 1] < V_hi):
+                if not (rj < 0.0 and j + 1 <= nv - 1 and S.vn(j + 1) < V_hi):
                     break
                 j += 1
             if rj >= 0.0:                       # the root is in [vnode[j-1], vnode[j]]
                 if j - 1 != S.cell:
                     S.set_cell(j - 1)
-                    lo = t.vnode[j - 1]
-                r_, d_ = S.resid(t.vnode[j])
-                V = S.solve_cell(lo, t.vnode[j], t.vnode[j], r_, d_)
+                    lo = S.vn(j - 1)
+                r_, d_ = S.resid(S.vn(j))
+                V = S.solve_cell(lo, S.vn(j), S.vn(j), r_, d_)
                 break
             S.set_cell(j)                       # R < 0 up to node j: go on in cell j
-            lo = t.vnode[j]
+            lo = S.vn(j)
             r, d = S.resid(lo)
     elif r > 0.0:                               # decelerating: the first root below
         hi = Vs
         while True:
-            lb = 0.0 if S.cell < 0 else t.vnode[S.cell]
+            lb = 0.0 if S.cell <= S.jlo else S.vn(S.cell)
             V = None
             for _ in range(50):                 # Newton from above
                 if not d > 0.0:
@@ -533,7 +611,7 @@ def stage(c: Ctx, Hs: float, p: float, Vby: float, Zux: float, Zuy: float, Zwx: 
                     break
             if V is not None:
                 break
-            if S.cell < 0:                      # R(0) < 0: the stick test failed
+            if S.cell <= S.jlo:                 # R(0) < 0: the stick test failed
                 V = S.solve_cell(0.0, hi, hi, r, d)
                 break
             # walk the nodes below from their values alone down to the first where R < 0
@@ -543,32 +621,32 @@ def stage(c: Ctx, Hs: float, p: float, Vby: float, Zux: float, Zuy: float, Zwx: 
                 if t.pmin is not None:
                     Pn = S.pf * t.bound(t.pmin, S.q, j)
                     Vd = (S.G * (1.0 + WALK_MARGIN) - Pn) / S.Amin
-                    if t.vnode[j] >= Vd:        # the bound holds at every node below j too
+                    if S.vn(j) >= Vd:        # the bound holds at every node below j too
                         stop = False
                         while True:
-                            if not j > 0:
+                            if not j > S.jlo + 1:
                                 stop = True
                                 break
                             j -= 1
-                            if not t.vnode[j] >= Vd:
+                            if not S.vn(j) >= Vd:
                                 break
                         rj = 1.0
                         if stop:
                             break
                         continue
                 rj = S.node_resid(j)
-                if not (rj >= 0.0 and j > 0):
+                if not (rj >= 0.0 and j > S.jlo + 1):
                     break
                 j -= 1
             if rj < 0.0:                        # the root is in [vnode[j], vnode[j+1]]
                 if j != S.cell:
                     S.set_cell(j)
-                    hi = t.vnode[j + 1]
-                r_, d_ = S.resid(t.vnode[j])
-                V = S.solve_cell(t.vnode[j], hi, t.vnode[j], r_, d_)
+                    hi = S.vn(j + 1)
+                r_, d_ = S.resid(S.vn(j))
+                V = S.solve_cell(S.vn(j), hi, S.vn(j), r_, d_)
                 break
-            S.set_cell(-1)                      # R >= 0 down to the first node
-            hi = t.vnode[0]
+            S.set_cell(S.jlo)                   # R >= 0 down to the first node in reach
+            hi = S.vn(S.jlo + 1)
             r, d = S.resid(hi)
     else:
         V = Vs
@@ -580,8 +658,9 @@ def stage(c: Ctx, Hs: float, p: float, Vby: float, Zux: float, Zuy: float, Zwx: 
     s = Zs + Hs * V
     if s > S_MAX:
         s = S_MAX
+    th = S.th / (1.0 + Hs * V / S.D) if S.D > 0.0 else Zth
     return (Zux + Hs * (wx - c.Vbx), Zuy + Hs * (wy - Vby), wx, wy, s, V, P, S.E, S.dT,
-            S.Ax * wx - S.gx, S.Ay * wy - S.gy)
+            S.Ax * wx - S.gx, S.Ay * wy - S.gy, th)
 
 
 def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, ...]:
@@ -599,7 +678,7 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
         stress on the belt ``k_y u_y + d_y (w_y - V_by)`` [N s/m], by the method's own
         quadrature (weights ``1 - gamma, gamma``).
     """
-    ux, uy, wx, wy, s = e[0], e[1], e[2], e[3], e[4]
+    ux, uy, wx, wy, s, th = e[0], e[1], e[2], e[3], e[4], e[7]
     Hn = e[5]
     if not Hn > 0.0 or Hn > h_e:
         Hn = h_e
@@ -608,7 +687,7 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
     g1 = (1.0 - GAMMA) / GAMMA
     ig = 1.0 / GAMMA
     o2 = (0.0, 0.0, 0.0, 0.0, 0.0, _norm2(wx, wy), 0.0,
-          _cold_weight(s * c.t.inv_s0) if c.t.inv_s0 > 0.0 else 1.0, 0.0, 0.0, 0.0)
+          _cold_weight(s * c.t.inv_s0) if c.t.inv_s0 > 0.0 else 1.0, 0.0, 0.0, 0.0, th)
     p2 = c.pressure(x_end)
     w = c.w
     while h_e - t > 1e-12 * h_e:
@@ -621,8 +700,8 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             # the step, whatever its length)
             pe = c.pressure(x_end)
             vbe = c.Vby + x_end * c.wpsi
-            o2 = stage(c, rest, pe, vbe, ux, uy, wx, wy, s, _norm2(wx, wy))
-            ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
+            o2 = stage(c, rest, pe, vbe, ux, uy, wx, wy, s, th, _norm2(wx, wy))
+            ux, uy, wx, wy, s, th = o2[0], o2[1], o2[2], o2[3], o2[4], o2[11]
             energy += rest * (o2[6] * o2[5])
             Jx += rest * o2[9]
             Jy += rest * o2[10]
@@ -642,10 +721,10 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             xe = x_end + c.Vr * (rest - H)
             pe = c.pressure(xe)
             vbe = c.Vby + xe * c.wpsi
-            o2 = stage(c, H, pe, vbe, ux, uy, wx, wy, s, _norm2(wx, wy))
+            o2 = stage(c, H, pe, vbe, ux, uy, wx, wy, s, th, _norm2(wx, wy))
             if w is not None:
                 w[1] += 1.0
-            ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
+            ux, uy, wx, wy, s, th = o2[0], o2[1], o2[2], o2[3], o2[4], o2[11]
             energy += H * (o2[6] * o2[5])
             Jx += H * o2[9]
             Jy += H * o2[10]
@@ -660,16 +739,17 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
         x1 = x_end + c.Vr * (rest - Hs)
         p1 = c.pressure(x1)
         vb1 = c.Vby + x1 * c.wpsi
-        o1 = stage(c, Hs, p1, vb1, ux, uy, wx, wy, s, _norm2(wx, wy))
+        o1 = stage(c, Hs, p1, vb1, ux, uy, wx, wy, s, th, _norm2(wx, wy))
         Zux = ux + g1 * (o1[0] - ux)
         Zuy = uy + g1 * (o1[1] - uy)
         Zwx = wx + g1 * (o1[2] - wx)
         Zwy = wy + g1 * (o1[3] - wy)
         Zs = s + g1 * (o1[4] - s)
+        Zth = th + g1 * (o1[11] - th)
         xe = x_end + c.Vr * (rest - H)
         pe = c.pressure(xe)
         vbe = c.Vby + xe * c.wpsi
-        o2 = stage(c, Hs, pe, vbe, Zux, Zuy, Zwx, Zwy, Zs, o1[5])
+        o2 = stage(c, Hs, pe, vbe, Zux, Zuy, Zwx, Zwy, Zs, Zth, o1[5])
         if w is not None:
             w[1] += 2.0
         err = abs(o2[0] - (ux + (o1[0] - ux) * ig)) * c.kx
@@ -682,6 +762,21 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             err = evx
         if evy > err:
             err = evy
+        if c.D > 0.0:
+            # the age's error as a friction stress: a relative error e of theta moves the
+            # friction by mu_scale p e |dmu / dln v|, taken with |dmu / dln v| <= 1; e is
+            # relative to the step's end age and filtered by the age's implicit factor
+            # 1 / (1 + Hs V / D) (Hairer and Wanner, sec. IV.8; tirecore.c)
+            the = th + (o1[11] - th) * ig
+            eth = abs(o2[11] - the) / (1.0 + Hs * o2[5] / c.D) / o2[11] * (c.mu_scale * pe)
+            # the friction is constant beyond the table's speed axis: between two ages that
+            # both read there (an embedded age <= 0 reads v_eff = inf) it moves nothing
+            vlo, vhi = c.t.vnode[0], c.t.vnode[c.t.n[0] - 1]
+            if (c.D >= vhi * o2[11] and c.D >= vhi * the) or \
+                    (c.D <= vlo * o2[11] and c.D <= vlo * the):
+                eth = 0.0
+            if eth > err:
+                err = eth
         err /= c.tol_abs
         fac = 0.9 / math.sqrt(err) if err > 0.0 else 4.0
         if fac > 4.0:
@@ -689,7 +784,7 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
         if fac < 0.2:
             fac = 0.2
         if err <= 1.0:
-            ux, uy, wx, wy, s = o2[0], o2[1], o2[2], o2[3], o2[4]
+            ux, uy, wx, wy, s, th = o2[0], o2[1], o2[2], o2[3], o2[4], o2[11]
             energy += H * ((1.0 - GAMMA) * o1[6] * o1[5] + GAMMA * o2[6] * o2[5])
             Jx += H * ((1.0 - GAMMA) * o1[9] + GAMMA * o2[9])
             Jy += H * ((1.0 - GAMMA) * o1[10] + GAMMA * o2[10])
@@ -705,7 +800,7 @@ def integrate(c: Ctx, e: list[float], x_end: float, h_e: float) -> tuple[float, 
             Hn = H * fac
             if Hn < H_MIN:
                 Hn = H_MIN
-    e[0], e[1], e[2], e[3], e[4], e[5] = ux, uy, wx, wy, s, Hn
+    e[0], e[1], e[2], e[3], e[4], e[5], e[7] = ux, uy, wx, wy, s, Hn, th
     return energy, o2[5], o2[6], o2[7], o2[8], p2, steps, Jx, Jy, Jm, Jt
 
 
@@ -812,7 +907,7 @@ def _steady_march(p, t: RefTable, n_cells: int, Vsx: float, Vsy: float, Vr: floa
     mean = (cf + (2.0 / 3.0) * (a - cf)) / a
     c = Ctx(p, t, T, Fz, a, b, cf, Fz / (2.0 * a * b * mean), mu_scale, Vsx, Vsy, vr)
     c.wpsi = wc
-    e = [0.0, 0.0, Vsx, Vsy + a * wc, 0.0, 0.0, 1.0]
+    e = [0.0, 0.0, Vsx, Vsy + a * wc, 0.0, 0.0, 1.0, 0.0]
     Jx = Jy = Jm = Jt = nsl = fsl = psl = dTm = steps = work = 0.0
     x_prev = a
     # followed to the trailing edge; the forces are the friction impulse over the transit
@@ -1134,6 +1229,8 @@ class RefTire:
             S.Zs = e[4]
             S.Hs = 0.0
             S.inv_s0 = t.inv_s0
+            S.D = 0.0                             # the secant at |w| (a linearisation)
+            S.th = 1.0
             S.iso = True
             S.resid(V)
             cs = S.P / V
@@ -1276,7 +1373,7 @@ class RefTire:
                 if h_e > h:
                     h_e = h
                 x_in = x + V_r * h_e              # where it entered
-                e[:] = [0.0, 0.0, Vbx, Vby + x_in * c.wpsi, 0.0, h_e, 1.0]
+                e[:] = [0.0, 0.0, Vbx, Vby + x_in * c.wpsi, 0.0, h_e, 1.0, 0.0]  # fresh contact
             energy, V, P, E, dT, pe, st, jx, jy, jm, _ = integrate(c, e, x, h_e)
             self.work += st
             Tx += c.kx * e[0] + c.dx * (e[2] - Vbx)

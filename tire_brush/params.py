@@ -221,6 +221,16 @@ class TreadParams:
         Groove depth [m]: with the void ratio, the water the grooves hold under the footprint
         (``void_ratio * depth`` per unit area), which sets the water depth at which dynamic
         hydroplaning starts (:mod:`tire_brush.hydroplaning`).
+    contact_ageing : bool
+        Contact age of the elements (docs/tire-core.md, "contact age"): an element carries
+        the age ``theta`` of its contact, ``d theta/dt = 1 - |w| theta / D`` (the ageing law of
+        rate-and-state friction: J.H. Dieterich, J. Geophys. Res. 84 (1979) 2161; A. Ruina,
+        J. Geophys. Res. 88 (1983) 10359), 0 when it enters the patch, and reads the grid's
+        friction at ``D / theta`` instead of ``|w|`` (our closure; ``D = s0 / 0.2``, the
+        macro-asperity contact size of eq. (28); review sec. 5.1, ``tau = d / v``, and
+        sec. 5.3, contact-time-dependent bond formation). Steady sliding reads ``|w|``
+        exactly; false (the default in code and when a tire file omits it) reads ``|w|``
+        always.
     """
 
     k_x: float = _param(
@@ -244,6 +254,10 @@ class TreadParams:
     depth: float = _param(
         "length", "Groove (tread) depth [m]: the grooves hold void_ratio * depth of water "
         "(hydroplaning)", nonnegative=True, default=8e-3)
+    contact_ageing: bool = _param(
+        None, "Contact age: the element reads the friction at D / theta, theta its contact "
+        "age (Dieterich's ageing law), instead of at its slip speed", toml_default=False,
+        default=False)
 
     def __post_init__(self) -> None:
         _raise(_validate(self))

@@ -135,7 +135,7 @@ def _bounds() -> dict[str, dict[str, Any]]:
 def _param_assignments(index: dict[str, int]) -> list[str]:
     """C statements filling ``tf_params`` from the values array ``v``: the numeric fields
     follow :func:`tire_brush.ccore.core_params` itself (run on value references instead of
-    values), the two switches are mapped by name."""
+    values), the three switches are mapped by name."""
     groups: dict[str, dict[str, float]] = {g: {} for g in GROUPS}
     top: dict[str, float] = {}
     for name, vr in index.items():
@@ -158,6 +158,8 @@ def _param_assignments(index: dict[str, int]) -> list[str]:
             lines.append(f"    P->rigid = v[{index['tire.carcass.rigid']}] != 0.0;")
         elif fname == "thermal":
             lines.append(f"    P->thermal = v[{index['tire.thermal.enabled']}] != 0.0;")
+        elif fname == "contact_ageing":
+            lines.append(f"    P->contact_ageing = v[{index['tire.tread.contact_ageing']}] != 0.0;")
         elif fname == "n_elements":
             lines.append(f"    P->n_elements = (int)v[{index['n_elements']}];")
         else:

@@ -21,6 +21,9 @@
 #define H_MIN 1e-8
 /* Largest slipped distance carried [m]. */
 #define S_MAX 1e6
+/* Contact-age length D per renewal length s0 of eq. (28): s0 = 0.2 D (D the macro-asperity
+ * contact size, lookup/surface.py), so D = 5 s0 (docs/tire-core.md, "contact age"). */
+#define AGE_D_PER_S0 5.0
 /* Smallest rolling speed of the steady march [m/s] (a locked wheel). */
 #define V_ROLL_MIN 1e-6
 #define LN10 2.302585092994046
@@ -321,6 +324,7 @@ typedef struct {
                                       t = (|x| - c_flat) / (a - c_flat) */
     double tol_abs;            /* stress tolerance [Pa] */
     double zx, zy;             /* velocity-error weights sqrt(k m) + d [N s/m^3] */
+    double D;                  /* contact-age length [m] (0: the friction read at |w|) */
     tf_work *w;                /* the outer step's work budget and counts (NULL: none) */
 } tf_ctx;
 
@@ -329,10 +333,29 @@ typedef struct {
     const tf_table *t;
     tf_tp q;
     double Ax, Ay, Amin, Amax, gx, gy, G, pf, Zs, Hs, inv_s0;
-    int iso, cell;
+    double D, th;                   /* contact age: D (0: off) and Z_theta + Hs > 0 */
+    int iso, cell, jlo;             /* jlo: the highest speed node below reach (V_j <= 0) */
     double c0[3], c1[3], lvj, ispan;
     double P, E, dT;                /* of the last residual evaluation */
 } tf_stg;
+
+/* Speed node j of the table as the stage's slip speed V: v_j itself, or with the contact
+ * age the V at which v_eff(V) = (D + Hs V) / th reaches v_j, V_j = (th v_j - D) / Hs
+ * (monotone in v_j; V_j <= 0 is below reach). */
+static double vn(const tf_stg *S, int j) {
+    double v = S->t->vnode[j];
+    return S->D > 0.0 ? (S->th * v - S->D) / S->Hs : v;
+}
+
+/* The largest node j in [lo, nv - 1] with vn(j) <= V (vn(lo) <= V, lo = -1 for none). */
+static int cell_of(const tf_stg *S, int lo, double V) {
+    int hi = S->t->n[0];
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (vn(S, mid) <= V) lo = mid; else hi = mid;
+    }
+    return lo;
+}
 
 static void set_cell(tf_stg *S, int j) {
     const tf_table *t = S->t;
@@ -359,8 +382,12 @@ static void set_cell(tf_stg *S, int j) {
 static double resid(tf_stg *S, double V, double *dR) {
     double mc, mh, dT, dmc, dmh;
     if (S->ispan > 0.0) {
-        double tt = (log10(V) - S->lvj) * S->ispan;
-        double dl = S->ispan / (V * LN10);
+        /* with the contact age the table is read at v_eff = (D + Hs V) / th, whose slope
+         * dv_eff/dV = Hs / th enters the derivative */
+        double ve = S->D > 0.0 ? (S->D + S->Hs * V) / S->th : V;
+        double tt = (log10(ve) - S->lvj) * S->ispan;
+        double dl = S->ispan / (ve * LN10);
+        if (S->D > 0.0) dl *= S->Hs / S->th;
         mc = S->c0[0] + S->c1[0] * tt;
         mh = S->c0[1] + S->c1[1] * tt;
         dT = S->c0[2] + S->c1[2] * tt;
@@ -421,7 +448,7 @@ static double node_resid(const tf_stg *S, int j) {
     for (int k = 0; k < 2; k++)
         n[k] = S->q.w00 * v[k] + S->q.w01 * v[3 + k] + S->q.w10 * v[o2 + k] +
                S->q.w11 * v[o2 + 3 + k];
-    double V = t->vnode[j];
+    double V = vn(S, j);
     double E = S->inv_s0 > 0.0 ? cold_weight((S->Zs + S->Hs * V) * S->inv_s0) : 1.0;
     double P = S->pf * (n[1] + (n[0] - n[1]) * E);
     if (S->iso) return (S->Ax * V + P) / S->G - 1.0;
@@ -431,13 +458,14 @@ static double node_resid(const tf_stg *S, int j) {
 
 typedef struct {
     double ux, uy, wx, wy, s, V, P, E, dT, fx, fy;   /* f: friction stress on the tip [Pa] */
+    double th;                                       /* contact age [s] */
 } tf_stage;
 
 /* One implicit stage Y = Z + Hs F(Y) of an element at pressure p [Pa]: stick, or slide with
  * the root of R(V) = 0 followed from V_start in the direction of its sign (docs/tire-core.md,
  * "stage solve"). */
 static void stage(const tf_ctx *c, double Hs, double p, double Vby, double Zux, double Zuy,
-                  double Zwx, double Zwy, double Zs, double V_start, tf_stage *o) {
+                  double Zwx, double Zwy, double Zs, double Zth, double V_start, tf_stage *o) {
     const tf_table *t = c->t;
     tf_stg S;
     double mdt = c->m / Hs;
@@ -456,9 +484,31 @@ static void stage(const tf_ctx *c, double Hs, double p, double Vby, double Zux, 
     S.Amin = S.Ax < S.Ay ? S.Ax : S.Ay;
     S.Amax = S.Ax < S.Ay ? S.Ay : S.Ax;
     prep_tp(t, c->iT, c->fT, p * c->inv_void, &S.q);
-    set_cell(&S, -1);
-    double E0 = S.inv_s0 > 0.0 ? cold_weight(Zs * S.inv_s0) : 1.0;
-    double mu0 = S.c0[1] + (S.c0[0] - S.c0[1]) * E0;
+    /* contact age (docs/tire-core.md, "contact age"): the stage's age is implicit,
+     * theta = (Z_theta + Hs) / (1 + Hs V / D), and the friction is read at
+     * v_eff = D / theta = (D + Hs V) / th, th = Z_theta + Hs (a second-stage extrapolation
+     * below 0, a stiff relaxation step, counts as a fresh contact: Z_theta = 0) */
+    S.D = c->D;
+    S.th = Zth > 0.0 ? Zth + Hs : Hs;
+    S.jlo = S.D > 0.0 ? cell_of(&S, -1, 0.0) : -1;
+    set_cell(&S, S.jlo);
+    double E0, mu0;
+    if (S.D > 0.0) {                          /* the friction at v_eff(0) = D / th */
+        E0 = S.inv_s0 > 0.0 ? cold_weight(Zs * S.inv_s0) : 1.0;
+        double mc = S.c0[0], mh = S.c0[1], dT0 = S.c0[2];
+        if (S.ispan > 0.0) {
+            double tt = (log10(S.D / S.th) - S.lvj) * S.ispan;
+            mc = S.c0[0] + S.c1[0] * tt;
+            mh = S.c0[1] + S.c1[1] * tt;
+            dT0 = S.c0[2] + S.c1[2] * tt;
+        }
+        mu0 = mh + (mc - mh) * E0;
+        S.dT = dT0;
+    } else {
+        E0 = S.inv_s0 > 0.0 ? cold_weight(Zs * S.inv_s0) : 1.0;
+        mu0 = S.c0[1] + (S.c0[0] - S.c0[1]) * E0;
+        S.dT = S.c0[2];
+    }
     if (S.G <= mu0 * S.pf) {                  /* the tip sticks */
         o->V = 0.0;
         o->wx = 0.0;
@@ -468,15 +518,23 @@ static void stage(const tf_ctx *c, double Hs, double p, double Vby, double Zux, 
         o->s = Zs;
         o->P = 0.0;
         o->E = E0;
-        o->dT = S.c0[2];
+        o->dT = S.dT;
         o->fx = -S.gx;
         o->fy = -S.gy;
+        o->th = S.D > 0.0 ? S.th : Zth;
         return;
     }
     double V_hi = S.G / (S.Ax < S.Ay ? S.Ax : S.Ay);
     double Vs = V_start < V_hi ? V_start : V_hi;
     int nv = t->n[0];
-    if (!(Vs > t->vnode[0])) {
+    if (S.D > 0.0) {                          /* the cells in V of the mapped nodes */
+        if (!(Vs > 0.0)) {
+            double v1 = S.jlo + 1 <= nv - 1 ? vn(&S, S.jlo + 1) : V_hi;
+            Vs = 0.5 * v1 < V_hi ? 0.5 * v1 : 0.5 * V_hi;
+        }
+        int j = cell_of(&S, S.jlo, Vs);
+        if (j != S.cell) set_cell(&S, j);
+    } else if (!(Vs > t->vnode[0])) {
         if (!(Vs > 0.0)) Vs = 0.5 * t->vnode[0] < V_hi ? 0.5 * t->vnode[0] : 0.5 * V_hi;
     } else if (Vs >= t->vnode[nv - 1]) {
         set_cell(&S, nv - 1);
@@ -494,7 +552,7 @@ static void stage(const tf_ctx *c, double Hs, double p, double Vby, double Zux, 
         double lo = Vs;
         for (;;) {
             int last = 0;
-            double ub = S.cell < nv - 1 ? t->vnode[S.cell + 1] : V_hi;
+            double ub = S.cell < nv - 1 ? vn(&S, S.cell + 1) : V_hi;
             if (ub >= V_hi) { ub = V_hi; last = 1; }
             int found = 0;
             for (int k = 0; k < 50 && d > 0.0; k++) {     /* Newton from below */
@@ -522,38 +580,38 @@ static void stage(const tf_ctx *c, double Hs, double p, double Vby, double Zux, 
                 if (t->smax) {
                     double Pm = S.pf * node_bound(t, t->smax, &S.q, j);
                     double Vb = (S.G * (1.0 - WALK_MARGIN) - Pm) / S.Amax;
-                    if (t->vnode[j] < Vb) {  /* the bound holds at every node above j too */
+                    if (vn(&S, j) < Vb) {  /* the bound holds at every node above j too */
                         int stop = 0;
                         do {
-                            if (!(j + 1 <= nv - 1 && t->vnode[j + 1] < V_hi)) { stop = 1; break; }
+                            if (!(j + 1 <= nv - 1 && vn(&S, j + 1) < V_hi)) { stop = 1; break; }
                             j += 1;
-                        } while (t->vnode[j] < Vb);
+                        } while (vn(&S, j) < Vb);
                         rj = -1.0;
                         if (stop) break;
                         continue;
                     }
                 }
                 rj = node_resid(&S, j);
-                if (!(rj < 0.0 && j + 1 <= nv - 1 && t->vnode[j + 1] < V_hi)) break;
+                if (!(rj < 0.0 && j + 1 <= nv - 1 && vn(&S, j + 1) < V_hi)) break;
                 j += 1;
             }
             if (rj >= 0.0) {                  /* the root is in [vnode[j-1], vnode[j]] */
                 if (j - 1 != S.cell) {
                     set_cell(&S, j - 1);
-                    lo = t->vnode[j - 1];
+                    lo = vn(&S, j - 1);
                 }
-                double d_, r_ = resid(&S, t->vnode[j], &d_);
-                V = solve_cell(&S, lo, t->vnode[j], t->vnode[j], r_, d_);
+                double d_, r_ = resid(&S, vn(&S, j), &d_);
+                V = solve_cell(&S, lo, vn(&S, j), vn(&S, j), r_, d_);
                 break;
             }
             set_cell(&S, j);                  /* R < 0 up to node j: go on in cell j */
-            lo = t->vnode[j];
+            lo = vn(&S, j);
             r = resid(&S, lo, &d);
         }
     } else if (r > 0.0) {                     /* decelerating: the first root below */
         double hi = Vs;
         for (;;) {
-            double lb = S.cell < 0 ? 0.0 : t->vnode[S.cell];
+            double lb = S.cell <= S.jlo ? 0.0 : vn(&S, S.cell);
             int found = 0;
             for (int k = 0; k < 50 && d > 0.0; k++) {     /* Newton from above */
                 double x = hi - r / d;
@@ -565,7 +623,7 @@ static void stage(const tf_ctx *c, double Hs, double p, double Vby, double Zux, 
                 if (tiny) { V = x; found = 1; break; }
             }
             if (found) break;
-            if (S.cell < 0) {                  /* R(0) < 0: the stick test failed */
+            if (S.cell <= S.jlo) {             /* R(0) < 0: the stick test failed */
                 V = solve_cell(&S, 0.0, hi, hi, r, d);
                 break;
             }
@@ -578,32 +636,32 @@ static void stage(const tf_ctx *c, double Hs, double p, double Vby, double Zux, 
                 if (t->pmin) {
                     double Pn = S.pf * node_bound(t, t->pmin, &S.q, j);
                     double Vd = (S.G * (1.0 + WALK_MARGIN) - Pn) / S.Amin;
-                    if (t->vnode[j] >= Vd) {  /* the bound holds at every node below j too */
+                    if (vn(&S, j) >= Vd) {  /* the bound holds at every node below j too */
                         int stop = 0;
                         do {
-                            if (!(j > 0)) { stop = 1; break; }
+                            if (!(j > S.jlo + 1)) { stop = 1; break; }
                             j -= 1;
-                        } while (t->vnode[j] >= Vd);
+                        } while (vn(&S, j) >= Vd);
                         rj = 1.0;
                         if (stop) break;
                         continue;
                     }
                 }
                 rj = node_resid(&S, j);
-                if (!(rj >= 0.0 && j > 0)) break;
+                if (!(rj >= 0.0 && j > S.jlo + 1)) break;
                 j -= 1;
             }
             if (rj < 0.0) {                   /* the root is in [vnode[j], vnode[j+1]] */
                 if (j != S.cell) {
                     set_cell(&S, j);
-                    hi = t->vnode[j + 1];
+                    hi = vn(&S, j + 1);
                 }
-                double d_, r_ = resid(&S, t->vnode[j], &d_);
-                V = solve_cell(&S, t->vnode[j], hi, t->vnode[j], r_, d_);
+                double d_, r_ = resid(&S, vn(&S, j), &d_);
+                V = solve_cell(&S, vn(&S, j), hi, vn(&S, j), r_, d_);
                 break;
             }
-            set_cell(&S, -1);                 /* R >= 0 down to the first node */
-            hi = t->vnode[0];
+            set_cell(&S, S.jlo);              /* R >= 0 down to the first node in reach */
+            hi = vn(&S, S.jlo + 1);
             r = resid(&S, hi, &d);
         }
     } else {
@@ -618,6 +676,7 @@ static void stage(const tf_ctx *c, double Hs, double p, double Vby, double Zux, 
     o->uy = Zuy + Hs * (o->wy - Vby);
     o->s = Zs + Hs * V;
     if (o->s > S_MAX) o->s = S_MAX;
+    o->th = S.D > 0.0 ? S.th / (1.0 + Hs * V / S.D) : Zth;
     o->P = P;
     o->E = S.E;
     o->dT = S.dT;
@@ -652,7 +711,7 @@ typedef struct {
  * [m] (docs/tire-core.md, "element integration"): SDIRK2 sub-steps with an embedded
  * first-order error estimate and step-size control. */
 static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_eres *r) {
-    double ux = e[0], uy = e[1], wx = e[2], wy = e[3], s = e[4];
+    double ux = e[0], uy = e[1], wx = e[2], wy = e[3], s = e[4], th = e[7];
     double Hn = e[5];
     if (!(Hn > 0.0) || Hn > h_e) Hn = h_e;
     double t = 0.0;
@@ -676,8 +735,8 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
              * of the end of the step, whatever its length) */
             double pe = pressure(c, x_end);
             double vbe = c->Vby + x_end * c->wpsi;
-            stage(c, rest, pe, vbe, ux, uy, wx, wy, s, norm2(wx, wy), &o2);
-            ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
+            stage(c, rest, pe, vbe, ux, uy, wx, wy, s, th, norm2(wx, wy), &o2);
+            ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s; th = o2.th;
             energy += rest * (o2.P * o2.V);
             Jx += rest * o2.fx;
             Jy += rest * o2.fy;
@@ -697,9 +756,9 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
             double xe = x_end + c->Vr * (rest - H);
             double pe = pressure(c, xe);
             double vbe = c->Vby + xe * c->wpsi;
-            stage(c, H, pe, vbe, ux, uy, wx, wy, s, norm2(wx, wy), &o2);
+            stage(c, H, pe, vbe, ux, uy, wx, wy, s, th, norm2(wx, wy), &o2);
             if (c->w) c->w->stages += 1.0;
-            ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
+            ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s; th = o2.th;
             energy += H * (o2.P * o2.V);
             Jx += H * o2.fx;
             Jy += H * o2.fy;
@@ -715,14 +774,15 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
         double x1 = x_end + c->Vr * (rest - Hs);
         double p1 = pressure(c, x1);
         double vb1 = c->Vby + x1 * c->wpsi;
-        stage(c, Hs, p1, vb1, ux, uy, wx, wy, s, norm2(wx, wy), &o1);
+        stage(c, Hs, p1, vb1, ux, uy, wx, wy, s, th, norm2(wx, wy), &o1);
         double Zux = ux + g1 * (o1.ux - ux), Zuy = uy + g1 * (o1.uy - uy);
         double Zwx = wx + g1 * (o1.wx - wx), Zwy = wy + g1 * (o1.wy - wy);
         double Zs = s + g1 * (o1.s - s);
+        double Zth = th + g1 * (o1.th - th);
         double xe = x_end + c->Vr * (rest - H);
         double pe = pressure(c, xe);
         double vbe = c->Vby + xe * c->wpsi;
-        stage(c, Hs, pe, vbe, Zux, Zuy, Zwx, Zwy, Zs, o1.V, &o2);
+        stage(c, Hs, pe, vbe, Zux, Zuy, Zwx, Zwy, Zs, Zth, o1.V, &o2);
         if (c->w) c->w->stages += 2.0;
         double ex = fabs(o2.ux - (ux + (o1.ux - ux) * ig)) * c->kx;
         double ey = fabs(o2.uy - (uy + (o1.uy - uy) * ig)) * c->ky;
@@ -732,12 +792,31 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
         if (ey > err) err = ey;
         if (evx > err) err = evx;
         if (evy > err) err = evy;
+        if (c->D > 0.0) {
+            /* the age's error as a friction stress: a relative error e of theta moves v_eff
+             * by the factor 1 + e, and the friction by mu_scale p e |dmu / dln v|, taken
+             * with |dmu / dln v| <= 1 (the grids change by less than 1 per e-fold); e is
+             * relative to the step's end age (what the friction reads) and filtered by the
+             * age's own implicit factor 1 / (1 + Hs V / D) (Hairer and Wanner, sec. IV.8:
+             * a fresh contact relaxing to D / V within the step is then accepted, a step
+             * whose first stage read a stale age is not) */
+            double the = th + (o1.th - th) * ig;
+            double eth = fabs(o2.th - the) / (1.0 + Hs * o2.V / c->D) / o2.th *
+                         (c->mu_scale * pe);
+            /* the friction is constant beyond the table's speed axis: between two ages that
+             * both read there (the embedded age <= 0 reads v_eff = inf) it moves nothing */
+            double vlo = c->t->vnode[0], vhi = c->t->vnode[c->t->n[0] - 1];
+            if ((c->D >= vhi * o2.th && c->D >= vhi * the) ||
+                (c->D <= vlo * o2.th && c->D <= vlo * the))
+                eth = 0.0;
+            if (eth > err) err = eth;
+        }
         err /= c->tol_abs;
         double fac = err > 0.0 ? 0.9 / sqrt(err) : 4.0;
         if (fac > 4.0) fac = 4.0;
         if (fac < 0.2) fac = 0.2;
         if (err <= 1.0) {
-            ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s;
+            ux = o2.ux; uy = o2.uy; wx = o2.wx; wy = o2.wy; s = o2.s; th = o2.th;
             energy += H * ((1.0 - GAMMA) * o1.P * o1.V + GAMMA * o2.P * o2.V);
             Jx += H * ((1.0 - GAMMA) * o1.fx + GAMMA * o2.fx);
             Jy += H * ((1.0 - GAMMA) * o1.fy + GAMMA * o2.fy);
@@ -754,7 +833,7 @@ static void integrate(const tf_ctx *c, double *e, double x_end, double h_e, tf_e
             if (Hn < H_MIN) Hn = H_MIN;
         }
     }
-    e[0] = ux; e[1] = uy; e[2] = wx; e[3] = wy; e[4] = s; e[5] = Hn;
+    e[0] = ux; e[1] = uy; e[2] = wx; e[3] = wy; e[4] = s; e[5] = Hn; e[7] = th;
     r->energy = energy;
     r->Jx = Jx;
     r->Jy = Jy;
@@ -819,6 +898,7 @@ static void ctx_init(tf_ctx *c, const tf_params *p, const tf_table *t, double T,
     c->tol_abs = p->tol * (0.5 * Fz / (a * b));
     c->zx = sqrt(p->k_x * p->mass) + p->d_x;
     c->zy = sqrt(p->k_y * p->mass) + p->d_y;
+    c->D = p->contact_ageing && t->inv_s0 > 0.0 ? AGE_D_PER_S0 / t->inv_s0 : 0.0;
     c->w = NULL;
 }
 
@@ -837,6 +917,7 @@ static int params_ok(const tf_params *p) {
     if (!(p->end_zone <= 1.0) || !(vertical_stiffness(p) > 0.0)) return 0;
     if (!(p->camber_reduction >= 0.0 && p->camber_reduction <= 1.0)) return 0;
     if (p->n_elements < 2) return 0;
+    if (p->contact_ageing != 0 && p->contact_ageing != 1) return 0;
     return 1;
 }
 
@@ -857,7 +938,7 @@ static double steady_march(const tf_params *p, const tf_table *t, int n_cells, d
     tf_ctx c;
     ctx_init(&c, p, t, T, Fz, a, b, cf, Fz / (2.0 * a * b * mean), mu_scale, Vsx, Vsy, vr);
     c.wpsi = wc;
-    double e[TF_ELEM] = {0.0, 0.0, Vsx, Vsy + a * wc, 0.0, 0.0, 1.0};
+    double e[TF_ELEM] = {0.0, 0.0, Vsx, Vsy + a * wc, 0.0, 0.0, 1.0, 0.0};
     double Jx = 0.0, Jy = 0.0, Jm = 0.0, Jt = 0.0, nsl = 0.0, fsl = 0.0, psl = 0.0, dTm = 0.0;
     double steps = 0.0, x_prev = a, work = 0.0;
     for (int j = 0; j <= n_cells; j++) {
@@ -1136,6 +1217,8 @@ int tf_tire_set_state(tf_tire *tire, const double *buf) {
     if (buf[0] != TF_VERSION || buf[1] != tire->L) return -1;
     for (int i = 2; i < STATE_HEAD + TF_ELEM * tire->L; i++)
         if (i != 9 && !isfinite(buf[i])) return -1;   /* T_tread may be NaN (not yet set) */
+    for (int i = 0; i < tire->L; i++)                 /* contact ages are >= 0 */
+        if (!(buf[STATE_HEAD + i * TF_ELEM + 7] >= 0.0)) return -1;
     tire->x_top = buf[2];
     tire->delta[0] = buf[3];
     tire->delta[1] = buf[4];
@@ -1238,6 +1321,8 @@ static void tread_stiffness(const tf_tire *tire, const tf_ctx *c, double h, doub
         S.Zs = e[4];
         S.Hs = 0.0;
         S.inv_s0 = c->t->inv_s0;
+        S.D = 0.0;                             /* the secant at |w| (a linearisation) */
+        S.th = 1.0;
         S.iso = 1;
         double dR_;
         resid(&S, V, &dR_);
@@ -1407,6 +1492,7 @@ static void advance(tf_tire *tire, double h, double Vsx, double Vsy, double V_r,
             e[4] = 0.0;
             e[5] = h_e;
             e[6] = 1.0;
+            e[7] = 0.0;                           /* a fresh contact */
         }
         tf_eres r;
         integrate(&c, e, x, h_e, &r);

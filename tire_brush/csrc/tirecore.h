@@ -25,7 +25,7 @@ extern "C" {
 #endif
 
 /* Version of this API and of the state layout (tf_tire_get_state). */
-#define TF_VERSION 4
+#define TF_VERSION 5
 /* Shortest step [s] that advances the tire: a shorter one (subnormal included) only advances
  * the clock and leaves state and outputs as they are (nothing in the model moves in 1 ns:
  * the element sub-steps stop at 10 ns), so outputs are continuous as the step -> 0. */
@@ -43,8 +43,8 @@ extern "C" {
  * time constant dt_internal), so the outputs change by O(dt) as dt -> 0. */
 #define TF_NOUT 12
 /* Columns of one lattice element in the state: u_x, u_y [m], w_x, w_y [m/s], s [m],
- * last sub-step [s], in contact (0/1). */
-#define TF_ELEM 7
+ * last sub-step [s], in contact (0/1), contact age theta [s] (0 unless contact_ageing). */
+#define TF_ELEM 8
 /* Columns of one steady operating point (tf_steady): V_sx, V_sy, V_r [m/s], Fz [N],
  * gamma [rad]. */
 #define TF_STEADY_IN 5
@@ -87,6 +87,10 @@ typedef struct {
                          * coupling needs it (docs/tire-core.md) */
     double tol;         /* local error tolerance of the element integration [1] */
     double v_floor;     /* speed floor of the reported slips [m/s] */
+    /* contact age (docs/tire-core.md, "contact age"): the element reads the friction at
+     * v_eff = D / theta, theta its contact age (Dieterich's ageing law), D = s0 / 0.2 of the
+     * table (0: the friction at |w|; a table with inv_s0 = 0 has no D and reads |w| too) */
+    int contact_ageing;
 } tf_params;
 
 /* Friction table: axes (uniform or not, strictly ascending) and node values
