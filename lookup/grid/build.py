@@ -140,9 +140,33 @@ def pool_label(size: int) -> str:
     return {0: "dask", 1: "serial"}.get(size, f"{size} processes")
 
 
+class TaskRun:
+    """The results of :func:`run_tasks` as they finish (iterate it), and where they run:
+    :attr:`size` (:func:`pool_size`: 0 on a Dask scheduler, 1 in this process, else the
+    number of local processes) and :attr:`where` (the same in words)."""
+
+    def __init__(self, size: int, results: Iterator[Any]) -> None:
+        self.size = size
+        self._results = results
+
+    @property
+    def where(self) -> str:
+        """:attr:`size` in words (:func:`pool_label`)."""
+        return pool_label(self.size)
+
+    def __iter__(self) -> Iterator[Any]:
+        return self._results
+
+    def close(self) -> None:
+        """Drop the queued tasks and let the running ones end (nothing half-done is
+        yielded)."""
+        self._results.close()
+
+
 def run_tasks(func: Callable[..., Any], shared: Any, tasks: list[tuple[Any, ...]], *,
-              workers: int = 1, scheduler: Any = None) -> Iterator[Any]:
-    """Run ``func(shared, *task)`` for every task and yield the results as they finish.
+              workers: int = 1, scheduler: Any = None) -> TaskRun:
+    """Run ``func(shared, *task)`` for every task; the returned :class:`TaskRun` yields the
+    results as they finish and says where they run.
 
     ``shared`` (the friction model of a grid build, the settings of a screening) is sent to
     each worker once, the tasks carry only their own small arguments. ``func`` must be a
@@ -156,10 +180,17 @@ def run_tasks(func: Callable[..., Any], shared: Any, tasks: list[tuple[Any, ...]
       len(tasks))`` processes (fork where available: the workers inherit the imported
       modules), ``shared`` passed once per worker through the initialiser.
 
-    Closing the iterator early (an interruption, an exception in the consumer) drops the
-    queued tasks and lets the running ones end; nothing half-done is yielded.
+    Nothing runs before the first result is asked for. Closing the run early
+    (:meth:`TaskRun.close`, an interruption, an exception in the consumer) drops the queued
+    tasks and lets the running ones end; nothing half-done is yielded.
     """
     n = pool_size(len(tasks), workers, scheduler)
+    return TaskRun(n, _results(func, shared, tasks, n, scheduler))
+
+
+def _results(func: Callable[..., Any], shared: Any, tasks: list[tuple[Any, ...]], n: int,
+             scheduler: Any) -> Iterator[Any]:
+    """The results of :func:`run_tasks` on a pool of :func:`pool_size` ``n``."""
     if n == 0:
         yield from _run_dask(func, shared, tasks, scheduler)
     elif n == 1:
@@ -413,8 +444,8 @@ def build_grid(
     n_workers = 1 if scheduler is None and workers == 1 else (
         workers or os.cpu_count() or 1)
     tasks = [(iv, float(spec.v[iv]), spec.T, spec.p) for iv in remaining]
-    where = pool_label(pool_size(len(remaining), n_workers, scheduler))
     runner = run_tasks(_timed_slice, model, tasks, workers=n_workers, scheduler=scheduler)
+    where = runner.where
     t_start = time.perf_counter()
     last_save = t_start
     cpu = 0.0
@@ -438,8 +469,7 @@ def build_grid(
         raise
     finally:
         bar.close()
-        if hasattr(runner, "close"):
-            runner.close()
+        runner.close()
     wall = time.perf_counter() - t_start
     if not ckpt.done.all():
         raise GridError(f"build of {output} incomplete: {int((~ckpt.done).sum())} slices "

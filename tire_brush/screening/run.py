@@ -95,7 +95,7 @@ def run_screen(spec: ScreenSpec | str | Path, out: str | Path, *, workers: int =
     """
     from tqdm.auto import tqdm
 
-    from lookup.grid.build import pool_label, pool_size, run_tasks
+    from lookup.grid.build import run_tasks
 
     if not isinstance(spec, ScreenSpec):
         spec = load_screen_spec(spec)
@@ -116,14 +116,14 @@ def run_screen(spec: ScreenSpec | str | Path, out: str | Path, *, workers: int =
     done = {key: r for _, _, key in jobs if (r := store.get(key)) is not None}
     todo = [(kind, d, key) for kind, d, key in jobs if key not in done]
     t0 = time.perf_counter()
-    # where the runner puts the tasks, by its own rule (recorded, and named on the bar)
-    size = pool_size(len(todo), workers, scheduler)
+    # the runner says where it puts the tasks (recorded, and named on the bar)
+    runner = run_tasks(run_task, settings, todo, workers=workers, scheduler=scheduler)
     bar = tqdm(total=len(jobs), initial=len(done), unit="compound", disable=not progress,
-               desc=f"screen {spec.name} ({pool_label(size)})", dynamic_ncols=True)
+               desc=f"screen {spec.name} ({runner.where})", dynamic_ncols=True)
     computed: list[str] = []
     cost: list[float] = []
     try:
-        for rec in run_tasks(run_task, settings, todo, workers=workers, scheduler=scheduler):
+        for rec in runner:
             store.put(rec)
             done[rec["key"]] = rec
             computed.append(rec["key"])
@@ -136,12 +136,13 @@ def run_screen(spec: ScreenSpec | str | Path, out: str | Path, *, workers: int =
                 on_record(rec)
     finally:
         bar.close()
+        runner.close()
     wall = time.perf_counter() - t0
     records = [done[k] for kind, _, k in jobs if kind == "compound"]
     reference = done[ref_key]
     result = ScreenResult(spec, out, records, reference, computed,
                           [k for _, _, k in jobs if k not in computed], wall,
-                          size)
+                          runner.size)
     if write:
         result.files = write_outputs(result)
     return result
