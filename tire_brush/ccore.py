@@ -314,7 +314,7 @@ def core_params(params, *, n_elements: int, dt_internal: float, tol: float, v_fl
                                                        th.heat_fraction)
     P.n_elements = int(n_elements)
     P.dt_internal, P.tol, P.v_floor = float(dt_internal), float(tol), float(v_floor)
-    P.contact_ageing = int(bool(getattr(tr, "contact_ageing", False)))
+    P.contact_ageing = int(bool(tr.contact_ageing))
     return P
 
 
