@@ -87,6 +87,7 @@ def test_roads_on_the_map_split_mu_and_a_patch(tmp_path, grid_file):
     assert (out / "trajectories" / "patch_locked_map.csv").is_file()
 
 
+@pytest.mark.slow
 def test_roads_through_the_fmu_agree_with_the_map(tmp_path, grid_file):
     """Locked wheels on the uniform and the split-mu road, through four FMU instances
     (transient brush) and on the steady map. On this synthetic grid the transient locked
@@ -94,7 +95,8 @@ def test_roads_through_the_fmu_agree_with_the_map(tmp_path, grid_file):
     makes the sliding tread stick-slip, docs/tire-core.md), the same on both roads: what the
     split-mu road costs against the uniform one agrees within 2 % (measured 0.3 %), and the
     mean yaw moments within 15 % (measured 6 %; as on the default grid,
-    test_braking_two_track_fmu)."""
+    test_braking_two_track_fmu). Slow (~37 s): the fast suite keeps the two-track FMU's own
+    checks (tests/test_braking_two_track_fmu.py) and the roads runner on the map."""
     from fmu_src.host.cosim import CosimSettings, FmuBrakingSimulator
 
     fmu = build_test_fmu(tmp_path)
