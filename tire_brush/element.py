@@ -484,20 +484,17 @@ def stage(c: Ctx, Hs: float, p: float, Vby: float, Zux: float, Zuy: float, Zwx: 
     S.th = Zth + Hs if Zth > 0.0 else Hs
     S.jlo = S.cell_of(-1, 0.0) if S.D > 0.0 else -1
     S.set_cell(S.jlo)
-    if S.D > 0.0:                               # the friction at v_eff(0) = D / th
-        E0 = _cold_weight(Zs * S.inv_s0) if S.inv_s0 > 0.0 else 1.0
-        mc, mh, dT0 = S.c0[0], S.c0[1], S.c0[2]
-        if S.ispan > 0.0:
-            tt = (math.log10(S.D / S.th) - S.lvj) * S.ispan
-            mc = S.c0[0] + S.c1[0] * tt
-            mh = S.c0[1] + S.c1[1] * tt
-            dT0 = S.c0[2] + S.c1[2] * tt
-        mu0 = mh + (mc - mh) * E0
-        S.dT = dT0
-    else:
-        E0 = _cold_weight(Zs * S.inv_s0) if S.inv_s0 > 0.0 else 1.0
-        mu0 = S.c0[1] + (S.c0[0] - S.c0[1]) * E0
-        S.dT = S.c0[2]
+    # the friction at rest: at v_eff(0) = D / th with the contact age, else at the first node
+    # (without the age the cell is below the table, ispan = 0: its first node)
+    E0 = _cold_weight(Zs * S.inv_s0) if S.inv_s0 > 0.0 else 1.0
+    mc, mh, dT0 = S.c0[0], S.c0[1], S.c0[2]
+    if S.D > 0.0 and S.ispan > 0.0:
+        tt = (math.log10(S.D / S.th) - S.lvj) * S.ispan
+        mc = S.c0[0] + S.c1[0] * tt
+        mh = S.c0[1] + S.c1[1] * tt
+        dT0 = S.c0[2] + S.c1[2] * tt
+    mu0 = mh + (mc - mh) * E0
+    S.dT = dT0
     if S.G <= mu0 * S.pf:                       # the tip sticks
         return (Zux - Hs * c.Vbx, Zuy - Hs * Vby, 0.0, 0.0, Zs, 0.0, 0.0, E0, S.dT,
                 -S.gx, -S.gy, S.th if S.D > 0.0 else Zth)

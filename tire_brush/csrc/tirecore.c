@@ -492,23 +492,18 @@ static void stage(const tf_ctx *c, double Hs, double p, double Vby, double Zux, 
     S.th = Zth > 0.0 ? Zth + Hs : Hs;
     S.jlo = S.D > 0.0 ? cell_of(&S, -1, 0.0) : -1;
     set_cell(&S, S.jlo);
-    double E0, mu0;
-    if (S.D > 0.0) {                          /* the friction at v_eff(0) = D / th */
-        E0 = S.inv_s0 > 0.0 ? cold_weight(Zs * S.inv_s0) : 1.0;
-        double mc = S.c0[0], mh = S.c0[1], dT0 = S.c0[2];
-        if (S.ispan > 0.0) {
-            double tt = (log10(S.D / S.th) - S.lvj) * S.ispan;
-            mc = S.c0[0] + S.c1[0] * tt;
-            mh = S.c0[1] + S.c1[1] * tt;
-            dT0 = S.c0[2] + S.c1[2] * tt;
-        }
-        mu0 = mh + (mc - mh) * E0;
-        S.dT = dT0;
-    } else {
-        E0 = S.inv_s0 > 0.0 ? cold_weight(Zs * S.inv_s0) : 1.0;
-        mu0 = S.c0[1] + (S.c0[0] - S.c0[1]) * E0;
-        S.dT = S.c0[2];
+    /* the friction at rest: at v_eff(0) = D / th with the contact age, else at the first
+     * node (without the age the cell is below the table, ispan = 0: its first node) */
+    double E0 = S.inv_s0 > 0.0 ? cold_weight(Zs * S.inv_s0) : 1.0;
+    double mc = S.c0[0], mh = S.c0[1], dT0 = S.c0[2];
+    if (S.D > 0.0 && S.ispan > 0.0) {
+        double tt = (log10(S.D / S.th) - S.lvj) * S.ispan;
+        mc = S.c0[0] + S.c1[0] * tt;
+        mh = S.c0[1] + S.c1[1] * tt;
+        dT0 = S.c0[2] + S.c1[2] * tt;
     }
+    double mu0 = mh + (mc - mh) * E0;
+    S.dT = dT0;
     if (S.G <= mu0 * S.pf) {                  /* the tip sticks */
         o->V = 0.0;
         o->wx = 0.0;
