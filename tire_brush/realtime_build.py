@@ -253,10 +253,10 @@ def _layer(args: tuple) -> tuple[np.ndarray, np.ndarray]:
     Vsx = s * np.cos(TH)
     Vsy = s * np.sin(TH)
     out = np.zeros((*F.shape, N_VALUES))
-    todo = (RHO > 0.0) | (g > 0.0)
+    marched = (RHO > 0.0) | (g > 0.0)
     if g == 0.0:
-        todo &= TH >= 0.0
-    sel = np.flatnonzero(todo.ravel())
+        marched &= TH >= 0.0
+    sel = np.flatnonzero(marched.ravel())
     if wet is None:
         r = sb.patch_response(Vsx.ravel()[sel], Vsy.ravel()[sel], Vr.ravel()[sel],
                               F.ravel()[sel], float(T), gamma=float(g))

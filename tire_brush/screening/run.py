@@ -114,10 +114,10 @@ def run_screen(spec: ScreenSpec | str | Path, out: str | Path, *, workers: int =
     jobs = [("reference", ref_desc, ref_key)]
     jobs += [("compound", d, compound_key(d, sdesc)) for d in spec.compounds()]
     done = {key: r for _, _, key in jobs if (r := store.get(key)) is not None}
-    todo = [(kind, d, key) for kind, d, key in jobs if key not in done]
+    pending = [(kind, d, key) for kind, d, key in jobs if key not in done]
     t0 = time.perf_counter()
     # the runner says where it puts the tasks (recorded, and named on the bar)
-    runner = run_tasks(run_task, settings, todo, workers=workers, scheduler=scheduler)
+    runner = run_tasks(run_task, settings, pending, workers=workers, scheduler=scheduler)
     bar = tqdm(total=len(jobs), initial=len(done), unit="compound", disable=not progress,
                desc=f"screen {spec.name} ({runner.where})", dynamic_ncols=True)
     computed: list[str] = []
