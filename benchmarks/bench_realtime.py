@@ -9,7 +9,8 @@ the patch table is built from its steady march, cached by its hash):
 
 * ``steady``: Fx, Fy, Mz of the real-time tire held at each operating point until settled,
   against the full model's steady march (``SteadyBrush``: the full model's steady state with
-  the belt's twist), over 0 / 20 / 50 C, 5 / 15 / 30 m/s, 2 / 4 / 6 kN, kappa 0 .. -1, alpha
+  the belt's twist), over 0 / 20 / 50 C (``--temps``; these are nodes of the default table,
+  5 / 25 / 45 C lie between them), 5 / 15 / 30 m/s, 2 / 4 / 6 kN, kappa 0 .. -1, alpha
   0 .. 15 deg and combined slip: the largest and the 95th-percentile difference of Fx, Fy
   over Fz (target 2 %), of Mz over the largest |Mz| of the full model at that temperature,
   speed and load (target 5 %), and the points beyond the targets;
@@ -452,6 +453,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--grid", default="default")
     ap.add_argument("--sections", default="steady,steps,lane,abs,cost")
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--temps", default="0,20,50",
+                    help="temperatures [C] of the steady section (the default table has a "
+                         "node every 10 K: e.g. 5,25,45 reads between them)")
     ap.add_argument("--wet-depths", default="0,0.5,1",
                     help="water depths [mm] of the wet section's steady rows (sections "
                          "wet, or wet-steady, wet-cost and wet-stops for those parts alone)")
@@ -468,14 +472,15 @@ def main(argv: list[str] | None = None) -> int:
     print(f"patch table: {res['table']['MB']:.1f} MB, shape {tuple(table.values.shape)}, "
           f"{res['table']['seconds']:.1f} s (cached: {path})")
     if "steady" in sections:
-        s = steady_sweep(tp, grid, table)
+        temps = tuple(float(x) for x in args.temps.split(","))
+        s = steady_sweep(tp, grid, table, temps=temps)
         res["steady"] = {k: v for k, v in s.items() if k != "rows"}
-        print(f"\nsteady, {s['n']} points (0/20/50 C, 5/15/30 m/s, 2/4/6 kN, kappa, alpha, "
-              f"combined): |diff| max / p95")
+        print(f"\nsteady, {s['n']} points ({'/'.join(f'{T:g}' for T in temps)} C, 5/15/30 "
+              f"m/s, 2/4/6 kN, kappa, alpha, combined): |diff| max / p95")
         print(f"  Fx / Fz     {s['Fx_max']:.4f} / {s['Fx_p95']:.4f}   (target 0.02)")
         print(f"  Fy / Fz     {s['Fy_max']:.4f} / {s['Fy_p95']:.4f}   (target 0.02)")
         print(f"  Mz / peak   {s['Mz_max']:.4f} / {s['Mz_p95']:.4f}   (target 0.05)")
-        n_T = s["n"] // len(TEMPS)
+        n_T = s["n"] // len(temps)
         print(f"  beyond a target: {len(s['off'])} of {s['n']} ("
               + ", ".join(f"{T:.0f} C: {k} of {n_T}" for T, k in s["beyond_by_T"].items())
               + ")")
