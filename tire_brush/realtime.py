@@ -77,16 +77,25 @@ N_VALUES = len(VALUE_NAMES)
 #: the value index innermost).
 AXIS_NAMES: tuple[str, ...] = ("gamma", "T", "Fz", "log10_v", "theta", "rho")
 
-#: Default nodes of the normalised slip share ``rho_n`` (module docstring): dense up to and
-#: around the force peak (about rho_n = 1/3), the resolution measured in docs/realtime.md.
-RHO_NODES: tuple[float, ...] = (0.0, 0.04, 0.08, 0.12, 0.16, 0.2, 0.24, 0.28, 0.32, 0.36, 0.4,
-                                0.45, 0.5, 0.57, 0.65, 0.75, 0.87, 1.0)
+#: Default nodes of the normalised slip share ``rho_n`` (module docstring): every 0.04 over the
+#: linear rise (the aligning and belt moments' curvature there sets the relaxation after a
+#: step of slip angle), every 0.02 from 0.2 to 0.4 (the force peak, and the aligning moment's
+#: collapse as the patch comes to slide whole, both narrower than 0.04 on the full model's
+#: march), every 0.025 to 0.5, wider towards locking; the resolution measured in
+#: docs/realtime.md.
+RHO_NODES: tuple[float, ...] = (0.0, 0.04, 0.08, 0.12, 0.16, 0.2, 0.22, 0.24, 0.26, 0.28, 0.3,
+                                0.32, 0.34, 0.36, 0.38, 0.4, 0.425, 0.45, 0.475, 0.5, 0.57,
+                                0.65, 0.75, 0.87, 0.93, 1.0)
 #: Default direction nodes [rad]: 22.5 degrees from pure lateral slip (-90) to pure lateral (90).
 THETA_NODES: tuple[float, ...] = tuple(math.radians(-90.0 + 22.5 * k) for k in range(9))
-#: Default speed nodes [m/s] of |V| + |V_r|; the first is also the speed floor of rho.
-SPEED_NODES: tuple[float, ...] = (1.0, 4.0, 10.0, 20.0, 35.0, 70.0)
-#: Default load nodes [N].
-LOAD_NODES: tuple[float, ...] = (1000.0, 2000.0, 3000.0, 4500.0, 6500.0, 10000.0)
+#: Default speed nodes [m/s] of |V| + |V_r|; the first is also the speed floor of rho. From 4 to
+#: 35 m/s about evenly in log v (ratio ~1.7; the sliding friction's speed dependence, which
+#: the ratio 2-2.5 left 2.5 % of Fz off between nodes: docs/realtime.md).
+SPEED_NODES: tuple[float, ...] = (1.0, 4.0, 7.0, 12.0, 20.0, 35.0, 70.0)
+#: Default load nodes [N]: every factor ~4/3 from 2 to 6.5 kN (the aligning moment's collapse
+#: moves with the load; the factor 1.5 left 5-6 % of its peak off between nodes:
+#: docs/realtime.md).
+LOAD_NODES: tuple[float, ...] = (1000.0, 2000.0, 2700.0, 3600.0, 4800.0, 6500.0, 10000.0)
 #: Default inclination nodes [rad] (|gamma|; the table is mirrored for gamma < 0).
 GAMMA_NODES: tuple[float, ...] = (0.0, 0.1)
 #: Default spacing of the temperature nodes [K] over the friction grid's temperature range.
