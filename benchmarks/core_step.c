@@ -5,7 +5,7 @@
  * inv_s0; tf_params (as the struct); int n_warm, n_steps, n_tires; double in[TF_NIN], dt.
  * Prints the median and 90th percentile of the wall time per step [us] over n_steps steps,
  * each step advancing n_tires tires. With a second argument, a real-time patch table
- * (tire_brush.realtime.PatchTable.to_bytes, format 1 or 2), the tires step in the real-time
+ * (tire_brush.realtime.PatchTable.to_bytes, format 3), the tires step in the real-time
  * fidelity (bench_realtime.py); with a third, a wet branch (int nd, nt; double depth[nd],
  * log10_t[nt], mu[nd*nv*nT*np*4], w_dry[nd*nt*nv*nT*np], d_full, drain_scale, texture_depth),
  * the tires are given it (tf_tire_set_wet). */
@@ -56,33 +56,32 @@ int main(int argc, char **argv) {
         FILE *g = fopen(argv[2], "rb");
         if (!g) return 2;
         char magic[16];
-        int d[TF_PATCH_NAX], nd = 1, rsv;
-        if (fread(magic, 1, 16, g) != 16) return 2;
-        if (magic[15] == 2 && fread(&nd, sizeof(int), 1, g) != 1) return 2;  /* format 2 */
+        int d[TF_PATCH_NAX], nd, law;  /* format 3 (PatchTable.to_bytes), little endian */
+        if (fread(magic, 1, 16, g) != 16 || magic[15] != 3) return 2;
+        if (fread(&nd, sizeof(int), 1, g) != 1 || nd < 1) return 2;
         if (fread(d, sizeof(int), TF_PATCH_NAX, g) != TF_PATCH_NAX) return 2;
-        if (magic[15] == 2 && fread(&rsv, sizeof(int), 1, g) != 1) return 2;
-        double dry = 0.0, *depth = &dry;
-        if (magic[15] == 2) {
-            depth = malloc(sizeof(double) * nd);
-            if (!depth || fread(depth, sizeof(double), nd, g) != (size_t)nd) return 2;
-        }
+        if (fread(&law, sizeof(int), 1, g) != 1) return 2;
         size_t nax = 0, nn = 1;
         for (int k = 0; k < TF_PATCH_NAX; k++) {
             nax += (size_t)d[k];
             nn *= (size_t)d[k];
         }
         size_t n0 = (size_t)d[0] * d[1] * d[2] * d[3] * 2;
-        int law = magic[15] == 2 && rsv == 1;  /* the depth law follows the values */
-        size_t m = nax + (size_t)d[2] + (size_t)nd * (n0 + TF_PATCH_NV * nn) +
-                   (law ? (size_t)(nd - 1) * nn : 0);
-        double *a = malloc(sizeof(double) * m);
-        if (!a || fread(a, sizeof(double), m, g) != m) return 2;
+        /* doubles: depths, axes, q, f0; floats: the values; doubles: the depth law */
+        size_t nh = (size_t)nd + nax + (size_t)d[2] + (size_t)nd * n0;
+        size_t nv = (size_t)nd * TF_PATCH_NV * nn, nl = law == 1 ? (size_t)(nd - 1) * nn : 0;
+        double *a = malloc(sizeof(double) * (nh + nv + nl));
+        float *fv = malloc(sizeof(float) * nv);
+        if (!a || !fv || fread(a, sizeof(double), nh, g) != nh ||
+            fread(fv, sizeof(float), nv, g) != nv ||
+            fread(a + nh + nv, sizeof(double), nl, g) != nl)
+            return 2;
         fclose(g);
-        pt = tf_patch_new_wet(d, nd, depth, a, a + nax, a + nax + d[2],
-                              a + nax + d[2] + (size_t)nd * n0);
-        if (pt && law &&
-            tf_patch_set_depth_law(pt, a + nax + d[2] + (size_t)nd * (n0 + TF_PATCH_NV * nn)))
-            return 3;
+        for (size_t i = 0; i < nv; i++) a[nh + i] = (double)fv[i];
+        free(fv);
+        double *ax = a + nd;
+        pt = tf_patch_new_wet(d, nd, a, ax, ax + nax, ax + nax + d[2], a + nh);
+        if (pt && nl && tf_patch_set_depth_law(pt, a + nh + nv)) return 3;
         free(a);
         if (!pt) return 3;
     }

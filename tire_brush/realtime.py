@@ -133,7 +133,10 @@ class PatchTable:
     values : numpy.ndarray
         Shape ``(n_gamma, n_T, n_Fz, n_v, n_theta, n_rho, N_VALUES)``, see
         :data:`VALUE_NAMES` (with a leading axis over ``depth`` when it has more than one
-        layer, as ``f0``).
+        layer, as ``f0``). Held at single precision, as the file stores them (rounded on
+        construction; a relative 6e-8, against the interpolation's ~1e-2 between nodes:
+        docs/realtime.md), so that a table read back, the core's copy and the Python mirror
+        evaluate the same numbers.
     key : str
         Hash of the tire parameters, friction table and axes it was built from.
     depth : numpy.ndarray
@@ -200,6 +203,10 @@ class PatchTable:
         if self.values.shape != shape or not np.all(np.isfinite(self.values)):
             raise InputError(f"must be finite with shape {shape}", field="patch_table.values",
                              value=self.values.shape)
+        # single precision, as stored in the file (to_bytes): float32 is round-to-nearest, and
+        # every float32 is a double, so C's copy and the Python mirror read these exactly
+        object.__setattr__(self, "values",
+                           np.asarray(self.values, np.float32).astype(np.float64))
         if self.depth_law is not None:
             k = np.asarray(self.depth_law, float)
             object.__setattr__(self, "depth_law", k)
@@ -215,65 +222,49 @@ class PatchTable:
     def to_bytes(self) -> bytes:
         """The table as the FMUs read it (:meth:`from_bytes`; the native FMU's tfn_files.c).
 
-        A dry table (one layer): the magic ``TIREFRIC-PATCH\\0\\0``, the six axis lengths
-        (little-endian int32), the axes, ``q``, ``f0`` and the values (little-endian doubles)
-        and the FNV-1a 64 hash of all that (little-endian uint64). A table with water-depth
-        layers (format 2): the magic ``TIREFRIC-PATCH\\0\\2``, the number of layers, the six
-        axis lengths and a flag (int32: 1 when the depth law follows the values, else 0), the
-        depths, then as format 1 with ``f0`` and the values of every layer, then the depth
-        law (:attr:`depth_law`) when flagged."""
+        Format 3: the magic ``TIREFRIC-PATCH\\0\\3``; the number of depth layers (1: a dry
+        table), the six axis lengths and a flag (1 when the depth law follows the values, else
+        0), little-endian int32; the depths, the axes, ``q`` and ``f0`` of every layer as
+        little-endian doubles; the values of every layer as little-endian single-precision
+        floats (:attr:`values`: the file's size halves, the FMU's with it); the depth law
+        (:attr:`depth_law`, doubles) when flagged; and the FNV-1a 64 hash of all that
+        (little-endian uint64)."""
         law = self.depth_law is not None
-        if self.depth.size > 1:
-            head = b"TIREFRIC-PATCH\0\2" + struct.pack("<8i", self.depth.size,
-                                                        *(a.size for a in self.axes()),
-                                                        int(law))
-            lead: tuple[np.ndarray, ...] = (self.depth,)
-        else:
-            head = b"TIREFRIC-PATCH\0\0" + struct.pack("<6i", *(a.size for a in self.axes()))
-            lead = ()
+        head = b"TIREFRIC-PATCH\0\3" + struct.pack("<8i", self.depth.size,
+                                                    *(a.size for a in self.axes()), int(law))
         body = b"".join(np.ascontiguousarray(a, "<f8").tobytes()
-                        for a in (*lead, *self.axes(), self.q, self.f0))
-        data = head + body + np.ascontiguousarray(self.values, "<f8").tobytes()
+                        for a in (self.depth, *self.axes(), self.q, self.f0))
+        data = head + body + np.ascontiguousarray(self.values, "<f4").tobytes()
         if law:
             data += np.ascontiguousarray(self.depth_law, "<f8").tobytes()
         return data + struct.pack("<Q", fnv1a64(data))
 
     @classmethod
     def from_bytes(cls, data: bytes, key: str = "", *, verify: bool = True) -> PatchTable:
-        """Read :meth:`to_bytes`' formats, the dry one (1) and the one with water-depth layers
-        (2) (``verify=False`` skips the checksum, which takes a few seconds in Python: for a
-        file whose sha256 was checked already)."""
-        law = 0
-        if len(data) >= 48 and data[:16] == b"TIREFRIC-PATCH\0\2":
-            nd, *nl, law = struct.unpack("<8i", data[16:48])
-            start = 48
-        elif len(data) >= 40 and data[:16] == b"TIREFRIC-PATCH\0\0":
-            nd, nl = 1, list(struct.unpack("<6i", data[16:40]))
-            start = 40
-        else:
-            raise InputError("not a patch table (format 1 or 2)", field="patch_table",
+        """Read :meth:`to_bytes`' format 3 (``verify=False`` skips the checksum, which takes a
+        few seconds in Python: for a file whose sha256 was checked already)."""
+        if len(data) < 56 or data[:16] != b"TIREFRIC-PATCH\0\3":
+            raise InputError("not a patch table (format 3)", field="patch_table",
                              value=len(data))
+        nd, *nl, law = struct.unpack("<8i", data[16:48])
         n = tuple(nl)
         if min(n) < 2 or nd < 1 or law not in (0, 1) or (law and nd < 2):
             raise InputError("axis lengths must be >= 2, layers >= 1 and the depth law's "
                              "flag 0 or 1 (1 only with layers)", field="patch_table",
                              value=(nd, n, law))
+        nn = int(np.prod(n))
         n0 = n[0] * n[1] * n[2] * n[3] * 2
-        total = (nd if start == 48 else 0) + sum(n) + n[2] + nd * (n0 + int(np.prod(n)) *
-                                                                   N_VALUES)
-        total += law * (nd - 1) * int(np.prod(n))
-        if len(data) != start + 8 + 8 * total or \
+        n_head = nd + sum(n) + n[2] + nd * n0        # doubles ahead of the values
+        n_val = nd * nn * N_VALUES                     # floats
+        n_law = law * (nd - 1) * nn                    # doubles after them
+        if len(data) != 48 + 8 * n_head + 4 * n_val + 8 * n_law + 8 or \
                 (verify and struct.unpack("<Q", data[-8:])[0] != fnv1a64(data[:-8])):
             raise InputError("wrong size for its axes or checksum mismatch (corrupt file)",
                              field="patch_table", value=len(data))
-        arr = np.frombuffer(data[:-8], "<f8", offset=start).astype(float)
-        off = 0
-        depth = np.zeros(1)
-        lead: tuple[int, ...] = ()
-        if start == 48:
-            depth = arr[:nd].copy()
-            off = nd
-            lead = (nd,) if nd > 1 else ()
+        arr = np.frombuffer(data, "<f8", count=n_head, offset=48).astype(float)
+        depth = arr[:nd].copy()
+        off = nd
+        lead: tuple[int, ...] = (nd,) if nd > 1 else ()
         axes = []
         for k in n:
             axes.append(arr[off:off + k].copy())
@@ -281,11 +272,13 @@ class PatchTable:
         q = arr[off:off + n[2]].copy()
         off += n[2]
         f0 = arr[off:off + nd * n0].reshape((*lead, *n[:4], 2)).copy()
-        off += nd * n0
-        nval = nd * int(np.prod(n)) * N_VALUES
-        vals = arr[off:off + nval].reshape((*lead, *n, N_VALUES)).copy()
-        off += nval
-        dl = arr[off:].reshape((nd - 1, *n)).copy() if law else None
+        start = 48 + 8 * n_head
+        vals = np.frombuffer(data, "<f4", count=n_val, offset=start).astype(float)
+        vals = vals.reshape((*lead, *n, N_VALUES))
+        dl = None
+        if law:
+            dl = np.frombuffer(data, "<f8", count=n_law, offset=start + 4 * n_val)
+            dl = dl.astype(float).reshape((nd - 1, *n))
         return cls(*axes, q=q, f0=f0, values=vals, key=key, depth=depth, depth_law=dl)
 
 

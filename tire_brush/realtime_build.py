@@ -60,7 +60,8 @@ def table_key(params: Any, table: Any, axes: dict[str, np.ndarray], n_cells: int
     h.update(repr(float(table.inv_s0)).encode())
     for name in AXIS_NAMES:
         h.update(np.ascontiguousarray(axes[name], float).tobytes())
-    h.update(repr((n_cells, tol, "rho_n = rho / (rho + q (1 - rho))", "f0")).encode())
+    h.update(repr((n_cells, tol, "rho_n = rho / (rho + q (1 - rho))", "f0",
+                   "values float32")).encode())
     if wet is not None:
         h.update(repr(("wet", str(wet.meta.get("hash", "")), float(drain_scale),
                        "U = V_r + V_sx / 2", DEPTH_LAW)).encode())
