@@ -252,7 +252,7 @@ class PatchTable:
             raise InputError("axis lengths must be >= 2, layers >= 1 and the depth law's "
                              "flag 0 or 1 (1 only with layers)", field="patch_table",
                              value=(nd, n, law))
-        nn = int(np.prod(n))
+        nn = math.prod(n)
         n0 = n[0] * n[1] * n[2] * n[3] * 2
         n_head = nd + sum(n) + n[2] + nd * n0        # doubles ahead of the values
         n_val = nd * nn * N_VALUES                     # floats
