@@ -54,35 +54,14 @@ int main(int argc, char **argv) {
     tf_patch *pt = NULL;
     if (argc > 2 && strcmp(argv[2], "-") != 0) { /* the patch table ("-": none) */
         FILE *g = fopen(argv[2], "rb");
-        if (!g) return 2;
-        char magic[16];
-        int d[TF_PATCH_NAX], nd, law;  /* format 3 (PatchTable.to_bytes), little endian */
-        if (fread(magic, 1, 16, g) != 16 || magic[15] != 3) return 2;
-        if (fread(&nd, sizeof(int), 1, g) != 1 || nd < 1) return 2;
-        if (fread(d, sizeof(int), TF_PATCH_NAX, g) != TF_PATCH_NAX) return 2;
-        if (fread(&law, sizeof(int), 1, g) != 1) return 2;
-        size_t nax = 0, nn = 1;
-        for (int k = 0; k < TF_PATCH_NAX; k++) {
-            nax += (size_t)d[k];
-            nn *= (size_t)d[k];
-        }
-        size_t n0 = (size_t)d[0] * d[1] * d[2] * d[3] * 2;
-        /* doubles: depths, axes, q, f0; floats: the values; doubles: the depth law */
-        size_t nh = (size_t)nd + nax + (size_t)d[2] + (size_t)nd * n0;
-        size_t nv = (size_t)nd * TF_PATCH_NV * nn, nl = law == 1 ? (size_t)(nd - 1) * nn : 0;
-        double *a = malloc(sizeof(double) * (nh + nv + nl));
-        float *fv = malloc(sizeof(float) * nv);
-        if (!a || !fv || fread(a, sizeof(double), nh, g) != nh ||
-            fread(fv, sizeof(float), nv, g) != nv ||
-            fread(a + nh + nv, sizeof(double), nl, g) != nl)
-            return 2;
+        if (!g || fseek(g, 0, SEEK_END) != 0) return 2;
+        long len = ftell(g);
+        unsigned char *buf = len > 0 ? malloc((size_t)len) : NULL;
+        rewind(g);
+        if (!buf || fread(buf, 1, (size_t)len, g) != (size_t)len) return 2;
         fclose(g);
-        for (size_t i = 0; i < nv; i++) a[nh + i] = (double)fv[i];
-        free(fv);
-        double *ax = a + nd;
-        pt = tf_patch_new_wet(d, nd, a, ax, ax + nax, ax + nax + d[2], a + nh);
-        if (pt && nl && tf_patch_set_depth_law(pt, a + nh + nv)) return 3;
-        free(a);
+        pt = tf_patch_from_bytes(buf, (size_t)len);  /* format 3 (PatchTable.to_bytes) */
+        free(buf);
         if (!pt) return 3;
     }
     tf_wet *wet = NULL;

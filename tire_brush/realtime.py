@@ -220,7 +220,8 @@ class PatchTable:
         return (self.gamma, self.T, self.Fz, self.log10_v, self.theta, self.rho)
 
     def to_bytes(self) -> bytes:
-        """The table as the FMUs read it (:meth:`from_bytes`; the native FMU's tfn_files.c).
+        """The table as the FMUs read it (:meth:`from_bytes`; in C ``tf_patch_from_bytes`` of
+        tirert.c, which the native FMU calls after checking the trailer).
 
         Format 3: the magic ``TIREFRIC-PATCH\\0\\3``; the number of depth layers (1: a dry
         table), the six axis lengths and a flag (1 when the depth law follows the values, else

@@ -8,6 +8,7 @@
 #include "tirert.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -107,6 +108,59 @@ void tf_patch_free(tf_patch *pt) {
     free(pt->depth);
     free(pt->law);
     free(pt);
+}
+
+static uint32_t rd_u32(const unsigned char *p) {
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+static double rd_f64(const unsigned char *p) {
+    uint64_t u = (uint64_t)rd_u32(p) | (uint64_t)rd_u32(p + 4) << 32;
+    double d;
+    memcpy(&d, &u, 8);
+    return d;
+}
+
+static float rd_f32(const unsigned char *p) {
+    uint32_t u = rd_u32(p);
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+
+tf_patch *tf_patch_from_bytes(const unsigned char *b, size_t n) {
+    if (!b || n < 56 || memcmp(b, "TIREFRIC-PATCH\0\3", 16) != 0) return NULL;
+    uint64_t nd = rd_u32(b + 16), law = rd_u32(b + 44), nax = 0, nn = 1;
+    if (nd < 1 || nd > 1000 || !(law == 0 || (law == 1 && nd >= 2))) return NULL;
+    int dims[TF_PATCH_NAX];
+    for (int k = 0; k < TF_PATCH_NAX; k++) {
+        uint32_t d = rd_u32(b + 20 + 4 * k);
+        if (d < 2 || d > 100000) return NULL;
+        dims[k] = (int)d;
+        nax += d;
+        nn *= d;
+    }
+    if (nn >= ((uint64_t)1 << 32)) return NULL;
+    uint64_t n0 = (uint64_t)dims[0] * dims[1] * dims[2] * dims[3] * 2;
+    uint64_t nhead = nd + nax + (uint64_t)dims[2] + nd * n0; /* float64s */
+    uint64_t nval = nd * TF_PATCH_NV * nn;                    /* float32s */
+    uint64_t nlaw = law * (nd - 1) * nn;                      /* float64s */
+    if (n != 48 + 8 * nhead + 4 * nval + 8 * nlaw + 8) return NULL;
+    double *a = malloc(sizeof(double) * (size_t)(nhead + nval + nlaw));
+    if (!a) return NULL;
+    for (size_t i = 0; i < nhead; i++) a[i] = rd_f64(b + 48 + 8 * i);
+    const unsigned char *bv = b + 48 + 8 * nhead;
+    for (size_t i = 0; i < nval; i++) a[nhead + i] = (double)rd_f32(bv + 4 * i);
+    for (size_t i = 0; i < nlaw; i++) a[nhead + nval + i] = rd_f64(bv + 4 * nval + 8 * i);
+    const double *ax = a + nd;
+    tf_patch *pt = tf_patch_new_wet(dims, (int)nd, a, ax, ax + nax, ax + nax + dims[2],
+                                    a + nhead);
+    if (pt && law && tf_patch_set_depth_law(pt, a + nhead + nval)) {
+        tf_patch_free(pt);
+        pt = NULL;
+    }
+    free(a);
+    return pt;
 }
 
 int tf_patch_set_depth_law(tf_patch *pt, const double *law) {

@@ -11,6 +11,8 @@
 #ifndef TIRERT_H
 #define TIRERT_H
 
+#include <stddef.h>
+
 #include "tirecore.h"
 
 #ifdef __cplusplus
@@ -52,6 +54,13 @@ TF_API tf_patch *tf_patch_new_wet(const int *n, int nd, const double *depth, con
  * weights are 1 - f and f. Copies the data; 0, or -1 on bad input. */
 TF_API int tf_patch_set_depth_law(tf_patch *pt, const double *law);
 TF_API void tf_patch_free(tf_patch *pt);
+/* A patch table from its file's bytes (tire_brush.realtime.PatchTable.to_bytes, format 3,
+ * little endian: the magic "TIREFRIC-PATCH\0\3"; int32 the number of water-depth layers nd,
+ * the six axis lengths and a flag (1 when the depth law follows); float64 the depths, the
+ * axes, q and the zero-slip force of every layer; float32 the node values of every layer;
+ * float64 the depth law when flagged; a uint64 FNV-1a 64 trailer, which the caller checks).
+ * NULL when the bytes are not that layout or the tables refuse their content. */
+TF_API tf_patch *tf_patch_from_bytes(const unsigned char *b, size_t n);
 /* Water-depth layers of a table (1: the dry road only). */
 TF_API int tf_patch_layers(const tf_patch *pt);
 /* The patch response at the patch's slip velocity (Vx, Vy) and rolling speed Vr [m/s], load

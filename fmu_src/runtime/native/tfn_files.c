@@ -202,19 +202,9 @@ int load_rolling(comp *c, const char *loc) {
     return 0;
 }
 
-/* The real-time fidelity's patch table (tire_brush.realtime.PatchTable.to_bytes), format 3,
- * little endian: the magic "TIREFRIC-PATCH\0\3"; int32 the number of water-depth layers nd
- * (1: a dry table), the six axis lengths and a flag (1 when the depth law follows); float64
- * the depths, the axes, q at the load nodes and the zero-slip force of every layer; float32
- * the node values of every layer; float64 the depth law between neighbouring layers ((nd - 1)
- * per node, tf_patch_set_depth_law) when flagged; an FNV-1a 64 trailer. */
-static float rd_f32(const unsigned char *p) {
-    uint32_t u = rd_u32(p);
-    float f;
-    memcpy(&f, &u, 4);
-    return f;
-}
-
+/* The real-time fidelity's patch table (tire_brush.realtime.PatchTable.to_bytes, format 3;
+ * the core reads its layout, tf_patch_from_bytes), with its FNV-1a 64 trailer checked here as
+ * the other resources'. */
 int load_patch(comp *c, const char *loc) {
     char path[4200];
     if (!TFN_HAS_PATCH) return 0;
@@ -222,53 +212,12 @@ int load_patch(comp *c, const char *loc) {
     if (resource_path(loc, TFN_PATCH_FILE, path, sizeof path) != 0) return -1;
     unsigned char *b = read_file(c, path, "real-time patch table", &n);
     if (!b) return -1;
-    int dims[TF_PATCH_NAX];
-    uint64_t nax = 0, nn = 1, nd = 0, law = 0;
-    int ok = n >= 56 && memcmp(b, "TIREFRIC-PATCH\0\3", 16) == 0;
-    if (ok) {
-        nd = rd_u32(b + 16);
-        law = rd_u32(b + 44);
-        ok = nd >= 1 && nd <= 1000 && (law == 0 || (law == 1 && nd >= 2));
-    }
-    for (int k = 0; ok && k < TF_PATCH_NAX; k++) {
-        uint32_t d = rd_u32(b + 20 + 4 * k);
-        ok = d >= 2 && d <= 100000;
-        dims[k] = (int)d;
-        nax += d;
-        nn *= d;
-    }
-    uint64_t n0 = ok ? (uint64_t)dims[0] * dims[1] * dims[2] * dims[3] * 2 : 0;
-    uint64_t nhead = nd + nax + (ok ? (uint64_t)dims[2] : 0) + nd * n0; /* float64s */
-    uint64_t nval = nd * TF_PATCH_NV * nn;                                /* float32s */
-    uint64_t nlaw = law * (nd - 1) * nn;                                  /* float64s */
-    ok = ok && nn < ((uint64_t)1 << 32) && n == 48 + 8 * nhead + 4 * nval + 8 * nlaw + 8 &&
-         fnv1a(b, n - 8) == rd_u64(b + n - 8);
-    if (!ok) {
-        free(b);
-        logf_(c, fmi2Error, "%s: not a tirefric patch table (format 3), or its size "
-              "(%.0f bytes for %.0f nodes) or checksum does not match (corrupt file)", path,
-              (double)n, (double)nn);
-        return -1;
-    }
-    size_t m = (size_t)(nhead + nval + nlaw);
-    double *a = malloc(sizeof(double) * m);
-    if (!a) { free(b); return -1; }
-    for (size_t i = 0; i < nhead; i++) a[i] = rd_f64(b + 48 + 8 * i);
-    const unsigned char *bv = b + 48 + 8 * nhead;
-    for (size_t i = 0; i < nval; i++) a[nhead + i] = (double)rd_f32(bv + 4 * i);
-    for (size_t i = 0; i < nlaw; i++) a[nhead + nval + i] = rd_f64(bv + 4 * nval + 8 * i);
+    c->patch = n >= 8 && fnv1a(b, n - 8) == rd_u64(b + n - 8) ? tf_patch_from_bytes(b, n) : NULL;
     free(b);
-    const double *depth = a;
-    const double *ax = a + nd;
-    c->patch = tf_patch_new_wet(dims, (int)nd, depth, ax, ax + nax, ax + nax + dims[2],
-                                a + nhead);
-    if (c->patch && law && tf_patch_set_depth_law(c->patch, a + nhead + nval)) {
-        tf_patch_free(c->patch);
-        c->patch = NULL;
-    }
-    free(a);
     if (!c->patch) {
-        logf_(c, fmi2Error, "the tire core refused the real-time patch table %s", path);
+        logf_(c, fmi2Error, "%s: not a tirefric patch table (format 3), or its size (%.0f "
+              "bytes) does not match its axes or its checksum does not match (corrupt file), "
+              "or the tire core refused its values", path, (double)n);
         return -1;
     }
     return 0;
